@@ -1,0 +1,71 @@
+// The pinhole (optionally thin-lens) camera and the course's rules for
+// placing it and fitting its field of view. Ray generation itself is Part 1
+// student code (stages/part1_raytracing/camera_rays.cpp).
+#pragma once
+#include <string>
+
+#include "bbox.h"
+#include "vec3.h"
+
+namespace pt {
+
+struct Camera {
+  Vec3d position{0, 0, 0};
+  Vec3d target{0, 0, -1};
+  // Camera-to-world rotation as three world-space axes: the camera looks
+  // along -axis_z, axis_x points right and axis_y up on the image.
+  Vec3d axis_x{1, 0, 0}, axis_y{0, 1, 0}, axis_z{0, 0, 1};
+
+  double hfov_deg = 50.0;     // full horizontal field of view
+  double vfov_deg = 37.5;     // full vertical field of view
+  double near_clip = 0.001;   // camera rays start here (min_t)
+  double far_clip = 1000.0;   // and end here (max_t)
+
+  // Focal length in pixels, fixed by the course's 800x600 frame; keeps the
+  // scale of the image when -r changes the resolution.
+  double screen_dist = 600.0 / (2.0 * 0.3394);
+
+  // Thin lens (-b, -d). A lens radius of 0 is a pinhole.
+  double lens_radius = 0.0;
+  double focal_distance = 4.7;
+
+  int width = 800, height = 600;  // image size in pixels
+
+  // Camera-to-world: local (x, y, z) direction -> world direction.
+  Vec3d to_world(const Vec3d& v) const { return axis_x * v.x + axis_y * v.y + axis_z * v.z; }
+
+  // Orient the camera at `pos` toward `look_at` with `up` as the world up
+  // (falls back to +Z when the view direction is parallel to `up`).
+  void look_at(const Vec3d& pos, const Vec3d& look_at, const Vec3d& up);
+
+  // The course's field-of-view fit: given the file's horizontal FOV and
+  // vertical FOV, widen whichever is too narrow for a 4:3 (800x600) frame and
+  // fix the focal length in pixels from it.
+  void fit_course_frame(double xfov_deg, double yfov_deg);
+
+  // Change the output size keeping the focal length in pixels, so that a
+  // smaller image is a centre crop of the 800x600 view.
+  void set_resolution(int w, int h);
+
+  // The course's placement: look from target + 1.5 |extent| * dir at the
+  // centre of `bounds`, world up +Y.
+  void place_course(const Vec3d& dir, const BBox& bounds);
+
+  // Read a camera settings file (the course's -c format, six lines). Throws
+  // std::runtime_error naming the file and line on malformed input.
+  void load_settings(const std::string& path);
+};
+
+}  // namespace pt
+
+#include "ray.h"
+
+namespace pt {
+
+// A thin-lens camera ray through normalised image point (x, y) with lens
+// sample (u1, u2) in [0,1)^2: origin on the lens disk of radius
+// lens_radius, aimed at the point the pinhole ray meets the plane of focus
+// at focal_distance. Used when -b > 0 (not part of the five parts).
+Ray thin_lens_ray(const Camera& cam, double x, double y, double u1, double u2);
+
+}  // namespace pt

@@ -1,0 +1,10 @@
+#include "stats.h"
+
+namespace pt {
+
+RayStats& thread_ray_stats() {
+  static thread_local RayStats stats;
+  return stats;
+}
+
+}  // namespace pt

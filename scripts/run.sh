@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# The main job: install what is missing, build, and render the default scene.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+scripts/build.sh
+mkdir -p out
+threads=$(nproc 2>/dev/null || echo 2)
+build/bin/pathtracer -t "$threads" -s 16 -r 480 360 -f out/CBspheres_lambertian.png scenes/CBspheres_lambertian.dae
+echo
+echo "Rendered: $(pwd)/out/CBspheres_lambertian.png (sample rates: out/CBspheres_lambertian_rate.png)"

@@ -1,0 +1,24 @@
+// Part 1, task 2: estimating a pixel from several camera samples.
+#pragma once
+#include <cstdint>
+#include <functional>
+
+#include "camera.h"
+#include "ray.h"
+#include "rng.h"
+
+namespace pt {
+
+// Radiance arriving along a camera ray; draws its random numbers from `rng`.
+using RadianceFn = std::function<Color(const Ray& r, Rng& rng)>;
+
+// The estimate of pixel (x, y) (integer pixel coordinates, (0, 0) at the
+// bottom-left) from `num_samples` camera samples.
+// Contract: with one sample, the ray through the pixel centre; otherwise
+// each sample goes through a uniformly random point of the pixel. Sample s
+// draws every random number it needs from Rng::for_sample(seed, pixel, s)
+// with pixel = y * width + x. Returns the average radiance.
+Color raytrace_pixel(const Camera& cam, int x, int y, int num_samples, uint64_t seed,
+                     const RadianceFn& radiance);
+
+}  // namespace pt

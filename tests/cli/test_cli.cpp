@@ -1,0 +1,192 @@
+// The pathtracer command line, end to end: course flags, help, bad input,
+// outputs, console lines.
+#include <catch2/catch.hpp>
+#include <fstream>
+#include <sstream>
+
+#include "image_io.h"
+#include "support.h"
+
+using namespace pt;
+using test::run_pathtracer;
+
+namespace {
+
+// A tiny valid scene: one triangle facing the camera, Y up.
+const char* kTinyScene = R"(<?xml version="1.0"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><up_axis>Y_UP</up_axis></asset>
+  <library_cameras><camera id="cam"><optics><technique_common><perspective>
+    <xfov>50</xfov><aspect_ratio>1.333333</aspect_ratio><znear>0.1</znear><zfar>100</zfar>
+  </perspective></technique_common></optics></camera></library_cameras>
+  <library_geometries><geometry id="tri"><mesh>
+    <source id="tri-pos"><float_array id="tri-pos-array" count="9">-1 -1 0 1 -1 0 0 1 0</float_array>
+      <technique_common><accessor source="#tri-pos-array" count="3" stride="3"/></technique_common></source>
+    <vertices id="tri-v"><input semantic="POSITION" source="#tri-pos"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#tri-v" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="Scene">
+    <node id="Camera"><matrix>1 0 0 0 0 1 0 0 0 0 1 5 0 0 0 1</matrix><instance_camera url="#cam"/></node>
+    <node id="Tri"><instance_geometry url="#tri"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#Scene"/></scene>
+</COLLADA>
+)";
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+// Runs a command that must fail: non-zero exit, exactly one line on stderr
+// containing `needle`, and no image written into `dir`.
+void expect_clean_failure(const test::TempDir& dir, const std::vector<std::string>& args, const std::string& needle) {
+  const auto r = run_pathtracer(args, dir.path());
+  INFO("stderr: " << r.err);
+  CHECK(r.exit_code != 0);
+  CHECK(r.exit_code < 128);  // not a crash
+  CHECK(count_lines(r.err) == 1);
+  CHECK(r.err.rfind("pathtracer: error: ", 0) == 0);
+  CHECK(r.err.find(needle) != std::string::npos);
+  for (const std::string& f : test::list_dir(dir.path())) {
+    INFO("left behind: " << f);
+    CHECK(f.find(".png") == std::string::npos);
+    CHECK(f.find(".tmp.") == std::string::npos);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("help (-h) prints usage and exits 0", "[cli]") {
+  const auto r = run_pathtracer({"-h"});
+  CHECK(r.exit_code == 0);
+  for (const char* flag : {"-s", "-l", "-t", "-m", "-o", "-e", "-b", "-d", "-f", "-r", "-c", "-a", "-H", "-p",
+                           "--part", "--seed"})
+    CHECK(r.out.find(std::string(flag) + " ") != std::string::npos);
+}
+
+TEST_CASE("bad flag values fail with one clear line and write nothing", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  const std::string scene = dir.file("tiny.dae");
+  expect_clean_failure(dir, {"-s", "0", scene}, "-s");
+  expect_clean_failure(dir, {"-r", "-5", "3", scene}, "-r");
+  expect_clean_failure(dir, {"-r", "64", scene}, "-r");
+  expect_clean_failure(dir, {"-t", "0", scene}, "-t");
+  expect_clean_failure(dir, {"-a", "0", "x", scene}, "-a");
+  expect_clean_failure(dir, {"-a", "8", "-0.5", scene}, "-a");
+  expect_clean_failure(dir, {"-l", "0", scene}, "-l");
+  expect_clean_failure(dir, {"-m", "-1", scene}, "-m");
+  expect_clean_failure(dir, {"-b", "-1", scene}, "-b");
+  expect_clean_failure(dir, {"-s", "many", scene}, "-s");
+  expect_clean_failure(dir, {"-r", "64", "48", "-p", "60", "0", "8", "8", scene}, "-p");
+  expect_clean_failure(dir, {"--part", "9", scene}, "--part");
+  expect_clean_failure(dir, {"--bogus", scene}, "bogus");
+  expect_clean_failure(dir, {}, "scene");
+  expect_clean_failure(dir, {"-e", "sky.exr", scene}, "-e");
+}
+
+TEST_CASE("parts not built yet are refused by name", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  expect_clean_failure(dir, {"--part", "5", dir.file("tiny.dae")}, "--part 5");
+}
+
+TEST_CASE("bad scene files fail with one line naming the file", "[cli]") {
+  test::TempDir dir;
+  expect_clean_failure(dir, {dir.file("nope.dae")}, "nope.dae");
+  test::write_text(dir.file("garbage.dae"), "this is not xml <<<");
+  expect_clean_failure(dir, {dir.file("garbage.dae")}, "garbage.dae");
+  test::write_text(dir.file("html.dae"), "<html><body/></html>");
+  expect_clean_failure(dir, {dir.file("html.dae")}, "html.dae");
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  expect_clean_failure(dir, {"-c", dir.file("nocam.txt"), dir.file("tiny.dae")}, "nocam.txt");
+  expect_clean_failure(dir, {"-f", dir.file("no/such/dir/x.png"), dir.file("tiny.dae")}, "no/such/dir");
+}
+
+TEST_CASE("a render writes the PNG, the rate PNG and the PFM, and prints the course's lines", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  const auto r = run_pathtracer({"-t", "2", "-s", "2", "-r", "32", "24", "-f", "out.png", "--pfm", "out.pfm",
+                                 dir.file("tiny.dae")},
+                                dir.path());
+  INFO(r.out << r.err);
+  REQUIRE(r.exit_code == 0);
+  for (const char* line : {"[PathTracer] Collecting primitives... Done!", "[PathTracer] Rendering... 100%!",
+                           "[PathTracer] Average speed", "intersection tests per ray.",
+                           "[PathTracer] Saving to file: out.png... Done!", "[PathTracer] Job completed."})
+    CHECK(r.out.find(line) != std::string::npos);
+  CHECK(r.out.find("Traced 1536 rays.") != std::string::npos);  // 32 * 24 * 2, exact
+  test::Png png, rate;
+  REQUIRE(test::read_png(dir.file("out.png"), &png));
+  CHECK(png.width == 32);
+  CHECK(png.height == 24);
+  REQUIRE(test::read_png(dir.file("out_rate.png"), &rate));
+  CHECK(rate.width == 32);
+  CHECK(rate.height == 24);
+  CHECK((rate.rgb[0] == 255 && rate.rgb[1] == 0 && rate.rgb[2] == 0));  // every pixel took all samples
+  const ImageBuffer pfm = read_pfm(dir.file("out.pfm"));
+  CHECK(pfm.width == 32);
+  // The centre pixel sees the triangle head on: normal (0,0,1) -> (0.5,0.5,1).
+  CHECK(pfm.at(16, 12).z == Approx(1.0f));
+}
+
+TEST_CASE("without -f the image is named after the scene", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  const auto r = run_pathtracer({"tiny.dae"}, dir.path());
+  REQUIRE(r.exit_code == 0);
+  CHECK(test::file_exists(dir.file("tiny_rate.png")));
+  // The course's default size, 800x600, and the whole triangle in view:
+  // the top-left corner misses, the centre hits.
+  test::Png png;
+  REQUIRE(test::read_png(dir.file("tiny.png"), &png));
+  CHECK(png.width == 800);
+  CHECK(png.height == 600);
+  CHECK((png.rgb[0] == 0 && png.rgb[1] == 0 && png.rgb[2] == 0));
+  CHECK(png.rgb[(300 * 800 + 400) * 3 + 2] == 255);
+}
+
+TEST_CASE("threads 1 and 2 (-t) write byte-identical images", "[cli][determinism]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  for (const char* t : {"1", "2"}) {
+    const auto r = run_pathtracer({"-t", t, "-s", "4", "-r", "40", "30", "-f", std::string("t") + t + ".png",
+                                   "--pfm", std::string("t") + t + ".pfm", "tiny.dae"},
+                                  dir.path());
+    REQUIRE(r.exit_code == 0);
+  }
+  CHECK(read_bytes(dir.file("t1.pfm")) == read_bytes(dir.file("t2.pfm")));
+  CHECK(read_bytes(dir.file("t1.png")) == read_bytes(dir.file("t2.png")));
+}
+
+TEST_CASE("every course scene renders at --part 1 to a PNG of the right size", "[cli][course][part1]") {
+  test::TempDir dir;
+  for (const char* name : {"CBempty.dae", "CBspheres_lambertian.dae", "CBspheres.dae", "CBbunny.dae", "cow.dae",
+                           "plane.dae"}) {
+    const std::string scene = test::course_scene(name);
+    const auto r = run_pathtracer({"--part", "1", "-s", "1", "-t", "2", "-r", "64", "48", "-f", "out.png", scene},
+                                  dir.path());
+    INFO(name << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    test::Png png, rate;
+    REQUIRE(test::read_png(dir.file("out.png"), &png));
+    CHECK(png.width == 64);
+    CHECK(png.height == 48);
+    REQUIRE(test::read_png(dir.file("out_rate.png"), &rate));
+    CHECK(rate.width == 64);
+    CHECK(rate.height == 48);
+    // Something was hit: not every byte is zero.
+    bool any = false;
+    for (unsigned char b : png.rgb) any |= b != 0;
+    CHECK(any);
+  }
+}

@@ -1,0 +1,52 @@
+// Helpers shared by the tests: temporary folders, running the pathtracer
+// executable, reading PNGs back, and locating the course's scene files.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pt::test {
+
+// Path of a course scene file in ../shared/cs184-scenes. When that folder is
+// absent the calling test is skipped: the process exits with code 77, which
+// ctest reports as "Skipped" (each test case runs in its own process).
+std::string course_scene(const std::string& name);
+
+// Path of one of the project's own scene files (scenes/NAME).
+std::string project_scene(const std::string& name);
+
+// A fresh temporary folder, removed with everything in it on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+  std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+ private:
+  std::string path_;
+};
+
+void write_text(const std::string& path, const std::string& text);
+bool file_exists(const std::string& path);
+std::vector<std::string> list_dir(const std::string& dir);
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;  // standard output
+  std::string err;  // standard error
+};
+
+// Runs the built pathtracer executable with `args` (no shell involved).
+RunResult run_pathtracer(const std::vector<std::string>& args, const std::string& cwd = "");
+
+struct Png {
+  unsigned width = 0, height = 0;
+  std::vector<unsigned char> rgb;  // top row first, 3 bytes per pixel
+};
+// Decodes a PNG; returns false when the file is missing or not a PNG.
+bool read_png(const std::string& path, Png* png);
+
+}  // namespace pt::test

@@ -20,6 +20,9 @@ if [ "$(id -u)" -eq 0 ]; then
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
   apt-get install -y -qq --no-install-recommends "${missing[@]}"
+elif command -v sudo >/dev/null 2>&1 && [ -t 0 ]; then
+  echo "setup: installing ${missing[*]} with sudo"
+  sudo sh -c "DEBIAN_FRONTEND=noninteractive $cmd"
 else
   echo "setup: missing packages: ${missing[*]}" >&2
   echo "setup: run as root:  sudo sh -c '$cmd'" >&2

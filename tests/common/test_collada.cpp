@@ -616,7 +616,7 @@ TEST_CASE("directional light uses the node's rotation only", "[collada][lights]"
   }
 }
 
-TEST_CASE("ambient light keeps its colour; spot and unknown lights are skipped with a warning",
+TEST_CASE("ambient light keeps its colour, spot and unknown lights are skipped with a warning",
           "[collada][lights]") {
   Doc d = triangle_doc();
   d.lights = light("A", "<ambient><color>0.1 0.2 0.3</color></ambient>") +

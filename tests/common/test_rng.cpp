@@ -17,7 +17,7 @@ TEST_CASE("per-sample generators are reproducible and distinct", "[rng]") {
   CHECK(firsts.size() == 4 * 64 * 16);
 }
 
-TEST_CASE("uniform() is in [0,1) and passes a chi-square test", "[rng]") {
+TEST_CASE("uniform() lies in the unit interval and passes a chi-square test", "[rng]") {
   // One chi-square test, alpha = 0.01, 64 equal cells, 640k draws taken as
   // the first draw of consecutive samples (how the renderer uses them).
   // Deterministic seeds, so it either always passes or always fails.

@@ -31,7 +31,7 @@ TEST_CASE("triangle: a ray through the interior hits and shrinks max_t", "[part1
   CHECK(h.n == Vec3(0, 0, 1));
 }
 
-TEST_CASE("triangle: misses outside, parallel rays, and hits outside [min_t, max_t]", "[part1][triangle]") {
+TEST_CASE("triangle: misses outside, parallel rays, and hits outside the ray interval", "[part1][triangle]") {
   const Triangle t = unit_triangle();
   Hit h;
   Ray out = down_at(0.75f, 0.75f);  // beyond the hypotenuse
@@ -53,7 +53,7 @@ TEST_CASE("triangle: misses outside, parallel rays, and hits outside [min_t, max
   CHECK_FALSE(intersect_triangle(t, behind, &h));
 }
 
-TEST_CASE("triangle: edges and vertices count as hits; both sides hit", "[part1][triangle]") {
+TEST_CASE("triangle: edges and vertices count as hits, from either side", "[part1][triangle]") {
   const Triangle t = unit_triangle();
   for (auto [x, y] : {std::pair{0.5f, 0.0f}, {0.0f, 0.5f}, {0.5f, 0.5f}, {0.0f, 0.0f}, {1.0f, 0.0f}}) {
     Ray r = down_at(x, y);
@@ -118,7 +118,7 @@ TEST_CASE("sphere: hit from outside returns the nearer root and outward normal",
   CHECK(h.n.z == Approx(0.8f));
 }
 
-TEST_CASE("sphere: from inside, the far root; with min_t past the near root, the far root", "[part1][sphere]") {
+TEST_CASE("sphere: from inside, and with min_t past the near root, the far root is hit", "[part1][sphere]") {
   Sphere s{{0, 0, 0}, 2.0f, 0};
   Ray inside({0, 0, 0}, {1, 0, 0}, 0.0f, 100.0f);
   Hit h;

@@ -82,7 +82,7 @@ TEST_CASE("the same seed gives a bit-identical image for 1 and 2 threads", "[par
                     one.image.pixels.size() * sizeof(Color)) != 0);
 }
 
-TEST_CASE("one sample per pixel goes through the pixel centre; more are jittered inside it", "[part1][render]") {
+TEST_CASE("one sample per pixel goes through the pixel centre, more are jittered inside it", "[part1][render]") {
   Scene s = small_scene();
   configure_camera(s.camera, options(8, 6, 1, 1));
   std::vector<Ray> seen;

@@ -40,6 +40,9 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
       ->check(CLI::Range(1, 5))->default_val(kPartsBuilt);
   app.add_option("--seed", o->seed, "Image seed (renders are reproducible for a given seed)");
   app.add_option("--pfm", o->output_pfm, "Also write linear radiance to this PFM file");
+  app.add_option("--stats-json", o->stats_json, "Write the render's figures (times, rays, tests) as JSON");
+  app.add_option("--bvh-leaf", o->bvh_max_leaf, "Most primitives per BVH leaf")->check(CLI::Range(1, 255))->default_val(4);
+  app.add_option("--bvh-bins", o->bvh_bins, "SAH bins per axis when building the BVH")->check(CLI::Range(2, 64))->default_val(12);
   bool no_progress = false;
   app.add_flag("--no-progress", no_progress, "Never draw the progress bar");
   app.add_option("scene", o->scene_path, "Scene file (.dae)")->required();

@@ -49,15 +49,27 @@ void configure_camera(Camera& cam, const RenderOptions& opts) {
   if (opts.focal_distance_set) cam.focal_distance = opts.focal_distance;
 }
 
-RenderResult render_scene(const Scene& scene, const RenderOptions& opts) {
+RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
+                          const std::function<void(const RenderResult&)>& before_render) {
   RenderResult result;
   result.image = ImageBuffer(opts.width, opts.height);
   ImageBuffer& img = result.image;
   const Camera& cam = scene.camera;
 
-  // The pipeline of the chosen part. Parts 1: brute-force intersection and
-  // normal shading.
-  std::unique_ptr<Intersector> geometry = std::make_unique<BruteForceIntersector>(scene);
+  // The pipeline of the chosen part. Part 1: every primitive tested, normal
+  // shading. Part 2: the same shading through the BVH.
+  std::unique_ptr<Intersector> geometry;
+  if (opts.part >= 2) {
+    BVHOptions bo;
+    bo.max_leaf_size = opts.bvh_max_leaf;
+    bo.bins = opts.bvh_bins;
+    auto bvh = std::make_unique<BVH>(scene, bo);
+    result.used_bvh = true;
+    result.bvh = bvh->build_stats();
+    geometry = std::move(bvh);
+  } else {
+    geometry = std::make_unique<BruteForceIntersector>(scene);
+  }
   const Intersector& isect = *geometry;
   const RadianceFn radiance = [&isect](const Ray& r, Rng&) { return normal_shading(isect, r); };
 
@@ -65,6 +77,7 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts) {
   if (opts.cell_set)
     rect = PixelRect{opts.cell_x, opts.cell_y, opts.cell_x + opts.cell_w, opts.cell_y + opts.cell_h};
 
+  if (before_render) before_render(result);
   RenderLoopOptions loop;
   loop.threads = opts.threads;
   loop.progress = opts.progress;
@@ -77,12 +90,64 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts) {
   return result;
 }
 
+namespace {
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string stats_json(const Scene& scene, const RenderOptions& opts, const RenderResult& r, double load_seconds) {
+  const double rays = double(r.stats.rays());
+  const auto per_ray = [&](uint64_t n) { return rays > 0 ? double(n) / rays : 0.0; };
+  char buf[2048];
+  std::snprintf(buf, sizeof buf,
+                "{\n"
+                "  \"scene\": %s,\n  \"part\": %d,\n  \"width\": %d,\n  \"height\": %d,\n"
+                "  \"samples_per_pixel\": %d,\n  \"light_samples\": %d,\n  \"max_depth\": %d,\n"
+                "  \"threads\": %d,\n  \"seed\": %llu,\n  \"primitives\": %zu,\n"
+                "  \"triangles\": %zu,\n  \"spheres\": %zu,\n  \"lights\": %zu,\n"
+                "  \"load_seconds\": %.6f,\n  \"bvh_build_seconds\": %.6f,\n  \"bvh_nodes\": %zu,\n"
+                "  \"bvh_leaves\": %zu,\n  \"bvh_depth\": %d,\n  \"bvh_sah_cost\": %.4f,\n"
+                "  \"render_seconds\": %.6f,\n  \"rays\": %llu,\n  \"closest_queries\": %llu,\n"
+                "  \"shadow_queries\": %llu,\n  \"primitive_tests\": %llu,\n  \"node_visits\": %llu,\n"
+                "  \"mrays_per_second\": %.4f,\n  \"tests_per_ray\": %.4f,\n  \"nodes_per_ray\": %.4f\n"
+                "}\n",
+                json_string(opts.scene_path).c_str(), opts.part, opts.width, opts.height, opts.samples_per_pixel,
+                opts.light_samples, opts.max_depth, opts.threads, (unsigned long long)opts.seed,
+                scene.num_primitives(), scene.triangles.size(), scene.spheres.size(), scene.lights.size(),
+                load_seconds, r.used_bvh ? r.bvh.build_seconds : 0.0, r.used_bvh ? r.bvh.nodes : size_t(0),
+                r.used_bvh ? r.bvh.leaves : size_t(0), r.used_bvh ? r.bvh.depth : 0,
+                r.used_bvh ? r.bvh.sah_cost : 0.0, r.seconds, (unsigned long long)r.stats.rays(),
+                (unsigned long long)r.stats.closest_queries, (unsigned long long)r.stats.shadow_queries,
+                (unsigned long long)r.stats.primitive_tests, (unsigned long long)r.stats.node_visits,
+                r.seconds > 0 ? rays / r.seconds * 1e-6 : 0.0, per_ray(r.stats.primitive_tests),
+                per_ray(r.stats.node_visits));
+  return buf;
+}
+
 int run_render_job(const RenderOptions& opts) {
   const std::string png = opts.output_png.empty() ? default_output_name(opts.scene_path) : opts.output_png;
   try {
     check_writable(png);
     check_writable(rate_image_path(png));
     if (!opts.output_pfm.empty()) check_writable(opts.output_pfm);
+
+    if (!opts.stats_json.empty()) check_writable(opts.stats_json);
 
     auto t0 = Clock::now();
     std::printf("[PathTracer] Collecting primitives... ");
@@ -96,28 +161,41 @@ int run_render_job(const RenderOptions& opts) {
       std::fflush(stdout);
       throw;
     }
-    std::printf("Done! (%.4f sec)\n", seconds_since(t0));
+    const double load_seconds = seconds_since(t0);
+    std::printf("Done! (%.4f sec)\n", load_seconds);
     for (const std::string& w : warnings) std::fprintf(stderr, "pathtracer: warning: %s\n", w.c_str());
     configure_camera(scene.camera, opts);
 
-    std::printf("[PathTracer] Part %d: no BVH, every ray tests all %zu primitives.\n", opts.part,
-                scene.num_primitives());
-    std::printf("[PathTracer] Rendering... ");
+    if (opts.part >= 2)
+      std::printf("[PathTracer] Building BVH from %zu primitives... ", scene.num_primitives());
+    else
+      std::printf("[PathTracer] Part 1: no BVH, every ray tests all %zu primitives.\n", scene.num_primitives());
     std::fflush(stdout);
-    RenderResult r = render_scene(scene, opts);
+    RenderResult r = render_scene(scene, opts, [](const RenderResult& partial) {
+      if (partial.used_bvh) std::printf("Done! (%.4f sec)\n", partial.bvh.build_seconds);
+      std::printf("[PathTracer] Rendering... ");
+      std::fflush(stdout);
+    });
     std::printf("100%%! (%.4fs)\n", r.seconds);
     const uint64_t rays = r.stats.rays();
-    std::printf("[PathTracer] Traced %llu rays.\n", (unsigned long long)rays);
+    std::printf("[PathTracer] %s %llu rays.\n", r.used_bvh ? "BVH traced" : "Traced", (unsigned long long)rays);
     std::printf("[PathTracer] Average speed %.4f million rays per second.\n",
                 r.seconds > 0 ? double(rays) / r.seconds * 1e-6 : 0.0);
     std::printf("[PathTracer] Averaged %f intersection tests per ray.\n",
                 rays ? double(r.stats.primitive_tests) / double(rays) : 0.0);
-
+    if (r.used_bvh)
+      std::printf("[PathTracer] BVH: %zu nodes, %zu leaves, depth %d, SAH cost %.2f; %.2f nodes visited per ray.\n",
+                  r.bvh.nodes, r.bvh.leaves, r.bvh.depth, r.bvh.sah_cost,
+                  rays ? double(r.stats.node_visits) / double(rays) : 0.0);
     std::printf("[PathTracer] Saving to file: %s... ", png.c_str());
     std::fflush(stdout);
     write_png(png, r.image);
     write_rate_png(rate_image_path(png), r.image, opts.samples_per_pixel);
     if (!opts.output_pfm.empty()) write_pfm(opts.output_pfm, r.image);
+    if (!opts.stats_json.empty()) {
+      const std::string json = stats_json(scene, opts, r, load_seconds);
+      write_file_atomically(opts.stats_json, std::vector<uint8_t>(json.begin(), json.end()));
+    }
     std::printf("Done!\n");
     std::printf("[PathTracer] Job completed.\n");
     return 0;

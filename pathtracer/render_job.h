@@ -1,8 +1,10 @@
 // A whole render: load the scene, set up the camera, render with the parts
 // selected by --part, write the images, print the course's console lines.
 #pragma once
+#include <functional>
 #include <string>
 
+#include "bvh.h"
 #include "image.h"
 #include "options.h"
 #include "scene.h"
@@ -13,7 +15,9 @@ namespace pt {
 struct RenderResult {
   ImageBuffer image;
   RayStats stats;
-  double seconds = 0;
+  double seconds = 0;          // rendering only
+  bool used_bvh = false;
+  BVHBuildStats bvh;           // when used_bvh
 };
 
 // Applies -r, -c, -b and -d to the scene's camera (in that order).
@@ -21,7 +25,13 @@ void configure_camera(Camera& cam, const RenderOptions& opts);
 
 // Renders `scene` (camera already configured) as `opts.part` prescribes.
 // Deterministic for a given opts.seed, whatever opts.threads is.
-RenderResult render_scene(const Scene& scene, const RenderOptions& opts);
+// `before_render` is called once the acceleration structure is built and
+// before the first pixel (the console lines use it).
+RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
+                          const std::function<void(const RenderResult&)>& before_render = {});
+
+// The render's figures as a JSON object (--stats-json).
+std::string stats_json(const Scene& scene, const RenderOptions& opts, const RenderResult& r, double load_seconds);
 
 // Runs the whole job and returns the process exit code.
 int run_render_job(const RenderOptions& opts);

@@ -37,6 +37,7 @@ RenderOptions options(int w, int h, int spp, int threads) {
   o.samples_per_pixel = spp;
   o.threads = threads;
   o.progress = false;
+  o.part = 1;  // brute force: every primitive tested
   return o;
 }
 

@@ -43,6 +43,12 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
   app.add_option("--stats-json", o->stats_json, "Write the render's figures (times, rays, tests) as JSON");
   app.add_option("--bvh-leaf", o->bvh_max_leaf, "Most primitives per BVH leaf")->check(CLI::Range(1, 255))->default_val(4);
   app.add_option("--bvh-bins", o->bvh_bins, "SAH bins per axis when building the BVH")->check(CLI::Range(2, 64))->default_val(12);
+  bool no_rr = false;
+  app.add_flag("--no-rr", no_rr, "Part 4: no Russian roulette, every path runs to -m bounces");
+  app.add_flag("--direct-only", o->direct_only, "Part 4: only emission and direct light (bounces 0 and 1)");
+  app.add_flag("--indirect-only", o->indirect_only, "Part 4: only indirect light (bounces 2 to -m)");
+  app.add_flag("--course-area-pdf", o->course_area_pdf,
+               "Use the course's area-light pdf (off by the distance to the light) to reproduce its images");
   bool no_progress = false;
   app.add_flag("--no-progress", no_progress, "Never draw the progress bar");
   app.add_option("scene", o->scene_path, "Scene file (.dae)")->required();
@@ -62,6 +68,8 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
     return std::optional<int>(2);
   };
   o->accumulate_bounces = accumulate != 0;
+  o->russian_roulette = !no_rr;
+  if (o->direct_only && o->indirect_only) return fail("--direct-only and --indirect-only exclude each other");
   o->progress = !no_progress;
   o->lens_radius_set = app.count("-b") > 0;
   o->focal_distance_set = app.count("-d") > 0;

@@ -7,7 +7,7 @@
 namespace pt {
 
 // The highest assignment part this build implements; --part defaults to it.
-constexpr int kPartsBuilt = 2;
+constexpr int kPartsBuilt = 4;
 
 struct RenderOptions {
   std::string scene_path;
@@ -34,6 +34,10 @@ struct RenderOptions {
   int cell_x = 0, cell_y = 0, cell_w = 0, cell_h = 0;
   uint64_t seed = 0;             // --seed
   bool progress = true;          // --no-progress turns the bar off
+  bool russian_roulette = true;  // --no-rr turns it off
+  bool direct_only = false;      // --direct-only
+  bool indirect_only = false;    // --indirect-only
+  bool course_area_pdf = false;  // --course-area-pdf
   int bvh_max_leaf = 4;          // --bvh-leaf
   int bvh_bins = 12;             // --bvh-bins
 };

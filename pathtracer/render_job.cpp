@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +11,7 @@
 
 #include "brute_force.h"
 #include "collada.h"
+#include "global_illumination.h"
 #include "image_io.h"
 #include "pixel_sampling.h"
 #include "render_loop.h"
@@ -71,7 +73,26 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
     geometry = std::make_unique<BruteForceIntersector>(scene);
   }
   const Intersector& isect = *geometry;
-  const RadianceFn radiance = [&isect](const Ray& r, Rng&) { return normal_shading(isect, r); };
+
+  // Part 3: emission plus one bounce of direct light. Part 4: paths of up
+  // to -m bounces with Russian roulette.
+  ShadingContext ctx{scene, isect};
+  ctx.light_samples = opts.light_samples;
+  ctx.hemisphere = opts.hemisphere_sampling;
+  ctx.course_area_pdf = opts.course_area_pdf;
+  PathOptions path;
+  path.max_depth = opts.direct_only ? std::min(opts.max_depth, 1) : opts.max_depth;
+  path.accumulate = opts.accumulate_bounces;
+  path.russian_roulette = opts.russian_roulette;
+  path.skip_direct = opts.indirect_only;
+
+  RadianceFn radiance;
+  if (opts.part <= 2)
+    radiance = [&isect](const Ray& r, Rng&) { return normal_shading(isect, r); };
+  else if (opts.part == 3)
+    radiance = [&ctx](const Ray& r, Rng& rng) { return direct_illumination(ctx, r, rng); };
+  else
+    radiance = [&ctx, &path](const Ray& r, Rng& rng) { return est_radiance_global_illumination(ctx, path, r, rng); };
 
   PixelRect rect{0, 0, opts.width, opts.height};
   if (opts.cell_set)

@@ -1,0 +1,81 @@
+// Light sampling: from a shading point, a direction toward the light with
+// its distance, the pdf of having chosen it (per unit solid angle; 1 for
+// delta lights) and the radiance arriving along it.
+#pragma once
+#include <limits>
+
+#include "samplers.h"
+#include "scene.h"
+
+namespace pt {
+
+struct LightSample {
+  Vec3 wi;                 // unit world direction from the point toward the light
+  float distance = 0;      // to the sampled point on the light; infinite for lights at infinity
+  float pdf = 0;           // solid-angle pdf; 1 for delta lights; 0 = no contribution
+  Color radiance{0.0f};    // arriving along -wi at the point (before the BSDF and cosine)
+};
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// Samples `light` as seen from `p` with uniform numbers u1, u2 in [0, 1).
+// Area light: a uniform point on the rectangle, pdf dist^2 / (area |cos|),
+// one-sided (no radiance behind it). Point light: intensity scaled by the
+// COLLADA attenuation 1 / (c + l d + q d^2). Directional: radiance along
+// its direction. Ambient: uniform over the upper (+Y) hemisphere.
+inline LightSample sample_light(const Light& light, const Vec3& p, float u1, float u2) {
+  LightSample s;
+  switch (light.type) {
+    case LightType::Area: {
+      const Vec3 q = light.position + light.dim_x * (u1 - 0.5f) + light.dim_y * (u2 - 0.5f);
+      const Vec3 d = q - p;
+      const float d2 = norm2(d);
+      if (!(d2 > 0)) return s;
+      s.distance = std::sqrt(d2);
+      s.wi = d / s.distance;
+      const float cos_light = -dot(s.wi, light.direction);  // the light emits along `direction`
+      if (cos_light <= 0) return s;                         // behind a one-sided light
+      const float area = norm(cross(light.dim_x, light.dim_y));
+      s.pdf = d2 / (area * cos_light);
+      s.radiance = light.radiance;
+      return s;
+    }
+    case LightType::Point: {
+      const Vec3 d = light.position - p;
+      s.distance = norm(d);
+      if (!(s.distance > 0)) return s;
+      s.wi = d / s.distance;
+      s.pdf = 1.0f;
+      const float att = light.constant_attenuation + light.linear_attenuation * s.distance +
+                        light.quadratic_attenuation * s.distance * s.distance;
+      s.radiance = att > 0 ? light.radiance / att : Color(0.0f);
+      return s;
+    }
+    case LightType::Directional:
+      s.wi = -light.direction;
+      s.distance = kInfinity;
+      s.pdf = 1.0f;
+      s.radiance = light.radiance;
+      return s;
+    case LightType::Ambient: {
+      const Vec3 w = sample_uniform_hemisphere(u1, u2);  // about +Z; turn to +Y
+      s.wi = Vec3(w.x, w.z, -w.y);
+      s.distance = kInfinity;
+      s.pdf = uniform_hemisphere_pdf();
+      s.radiance = light.radiance;
+      return s;
+    }
+  }
+  return s;
+}
+
+// Radiance that lights at infinity (ambient) send along a ray that escapes
+// the scene in direction d (pointing away from the scene).
+inline Color escaped_radiance(const std::vector<Light>& lights, const Vec3& d) {
+  Color L(0.0f);
+  for (const Light& l : lights)
+    if (l.type == LightType::Ambient && d.y > 0) L += l.radiance;
+  return L;
+}
+
+}  // namespace pt

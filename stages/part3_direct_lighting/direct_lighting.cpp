@@ -1,0 +1,89 @@
+#include "direct_lighting.h"
+
+#include <algorithm>
+
+#include "bsdf.h"
+#include "frame.h"
+#include "lights.h"
+#include "todo.h"
+
+namespace pt {
+
+Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit) {
+  (void)r;
+  // BEGIN SOLUTION
+  // STUB: todo_once("Part 3: zero_bounce_radiance (stages/part3_direct_lighting/direct_lighting.cpp)");
+  // STUB: (void)ctx; (void)hit;
+  // STUB: return Color(0.0f);
+  return emission(ctx.scene.materials[size_t(hit.material)]);
+  // END SOLUTION
+}
+
+Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
+  // BEGIN SOLUTION
+  // STUB: todo_once("Part 3: estimate_direct_lighting_hemisphere (stages/part3_direct_lighting/direct_lighting.cpp)");
+  // STUB: (void)ctx; (void)r; (void)hit; (void)rng;
+  // STUB: return Color(0.0f);
+  const Frame frame = Frame::from_normal(hit.n);
+  const Vec3 p = r.at(hit.t);
+  const Vec3 wo = frame.to_local(-r.d);
+  const Material& m = ctx.scene.materials[size_t(hit.material)];
+  const int n = std::max<int>(1, int(ctx.scene.lights.size()) * ctx.light_samples);
+  Color sum(0.0f);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 wi = sample_uniform_hemisphere(rng.uniform(), rng.uniform());
+    const Vec3 w = frame.to_world(wi);
+    Ray probe(p, w, kRayEpsilon, kInfinity);
+    Hit h;
+    const Color Li = ctx.geometry.intersect(probe, &h) ? zero_bounce_radiance(ctx, probe, h)
+                                                       : escaped_radiance(ctx.scene.lights, w);
+    sum += bsdf_f(m, wo, wi) * Li * (wi.z / uniform_hemisphere_pdf());
+  }
+  return sum / float(n);
+  // END SOLUTION
+}
+
+Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
+  // BEGIN SOLUTION
+  // STUB: todo_once("Part 3: estimate_direct_lighting_importance (stages/part3_direct_lighting/direct_lighting.cpp)");
+  // STUB: (void)ctx; (void)r; (void)hit; (void)rng;
+  // STUB: return Color(0.0f);
+  const Frame frame = Frame::from_normal(hit.n);
+  const Vec3 p = r.at(hit.t);
+  const Vec3 wo = frame.to_local(-r.d);
+  const Material& m = ctx.scene.materials[size_t(hit.material)];
+  Color total(0.0f);
+  for (const Light& light : ctx.scene.lights) {
+    const int n = light.is_delta() ? 1 : ctx.light_samples;
+    Color sum(0.0f);
+    for (int i = 0; i < n; ++i) {
+      const LightSample ls = sample_light(light, p, rng.uniform(), rng.uniform());
+      if (!(ls.pdf > 0)) continue;
+      const Vec3 wi = frame.to_local(ls.wi);
+      if (wi.z <= 0) continue;  // the light is below the surface
+      const float max_t = std::isfinite(ls.distance) ? ls.distance - kRayEpsilon : kInfinity;
+      if (!(max_t > kRayEpsilon)) continue;
+      if (ctx.geometry.occluded(Ray(p, ls.wi, kRayEpsilon, max_t))) continue;
+      float pdf = ls.pdf;
+      if (ctx.course_area_pdf && light.type == LightType::Area) pdf /= ls.distance;
+      sum += bsdf_f(m, wo, wi) * ls.radiance * (wi.z / pdf);
+    }
+    total += sum / float(n);
+  }
+  return total;
+  // END SOLUTION
+}
+
+Color one_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
+  return ctx.hemisphere ? estimate_direct_lighting_hemisphere(ctx, r, hit, rng)
+                        : estimate_direct_lighting_importance(ctx, r, hit, rng);
+}
+
+Color direct_illumination(const ShadingContext& ctx, const Ray& ray, Rng& rng) {
+  Ray r = ray;
+  Hit hit;
+  if (!ctx.geometry.intersect(r, &hit)) return escaped_radiance(ctx.scene.lights, r.d);
+  return zero_bounce_radiance(ctx, r, hit) + one_bounce_radiance(ctx, r, hit, rng);
+}
+
+}  // namespace pt

@@ -1,0 +1,48 @@
+// Part 3: direct lighting, by uniform hemisphere sampling (-H) and by
+// sampling the lights (importance sampling).
+#pragma once
+#include "intersector.h"
+#include "ray.h"
+#include "rng.h"
+#include "scene.h"
+
+namespace pt {
+
+// What the lighting estimators need to know about the render.
+struct ShadingContext {
+  const Scene& scene;
+  const Intersector& geometry;
+  int light_samples = 1;        // -l: samples per area (non-delta) light
+  bool hemisphere = false;      // -H: estimate direct light by hemisphere sampling
+  bool course_area_pdf = false; // reproduce the course's area-light pdf (see docs/differences.md)
+};
+
+// Offset of shadow and bounce rays from the surface (min_t), and how far
+// short of a sampled light a shadow ray stops (max_t = distance - eps).
+constexpr float kRayEpsilon = 1e-4f;
+
+// Light emitted by the surface `hit` toward the ray's origin (emission is
+// seen from both sides).
+Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit);
+
+// Direct light at `hit` by sampling directions uniformly over the
+// hemisphere around the normal: lights.size() * light_samples samples, each
+// collecting the emission of whatever it hits (or the ambient sky it
+// escapes to), weighted by f cos / pdf.
+Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng);
+
+// Direct light at `hit` by sampling the lights: light_samples samples per
+// non-delta light and one per delta light, skipping samples below the
+// surface and occluded ones (shadow rays from the hit point, min_t = eps,
+// max_t = distance - eps), each weighted by f cos / pdf, averaged per light
+// and summed over the lights.
+Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng);
+
+// One bounce: the estimator chosen by -H.
+Color one_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng);
+
+// What --part 3 renders: emission seen directly plus one bounce of direct
+// light; rays that escape see the ambient sky.
+Color direct_illumination(const ShadingContext& ctx, const Ray& r, Rng& rng);
+
+}  // namespace pt

@@ -3,6 +3,7 @@
 
 #include "bvh.h"
 #include "slab_test.h"
+#include "slab_test_pair.h"
 #include "sphere.h"
 #include "stats.h"
 #include "todo.h"
@@ -54,6 +55,7 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
   // STUB: }
   // STUB: return found;
   const Vec3 inv_d(1.0f / r.d.x, 1.0f / r.d.y, 1.0f / r.d.z);
+  const PairRay pray(r);
   uint64_t tests = 0, visits = 0;
   int best = -1;  // leaf-order index of the nearest primitive so far
   float best_b1 = 0, best_b2 = 0;
@@ -96,11 +98,9 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
         break;
       }
       // Interior: test both children, go to the nearer, keep the other.
-      const BVHNode& a = nodes_[n.first];
-      const BVHNode& b = nodes_[n.first + 1];
       float ta, tb;
-      const bool ha = slab_test(a.lo, a.hi, r.o, inv_d, r.min_t, r.max_t, &ta);
-      const bool hb = slab_test(b.lo, b.hi, r.o, inv_d, r.min_t, r.max_t, &tb);
+      const int h = slab_test_pair(&nodes_[n.first], pray, r.min_t, r.max_t, &ta, &tb);
+      const bool ha = h & 1, hb = h & 2;
       if (ha && hb) {
         if (ta <= tb) {
           stack[sp++] = {n.first + 1, tb};
@@ -148,6 +148,7 @@ bool BVH::occluded(const Ray& ray) const {
   // STUB: for (const Sphere& s : scene_.spheres) { ++stats.primitive_tests; if (intersect_sphere(s, r, nullptr)) return true; }
   // STUB: return false;
   const Vec3 inv_d(1.0f / r.d.x, 1.0f / r.d.y, 1.0f / r.d.z);
+  const PairRay pray(r);
   uint64_t tests = 0, visits = 0;
   bool found = false;
   uint32_t stack[kStackSize];
@@ -172,11 +173,10 @@ bool BVH::occluded(const Ray& ray) const {
       }
       continue;
     }
-    const BVHNode& a = nodes_[n.first];
-    const BVHNode& b = nodes_[n.first + 1];
     float ta, tb;
-    if (slab_test(b.lo, b.hi, r.o, inv_d, r.min_t, r.max_t, &tb)) stack[sp++] = n.first + 1;
-    if (slab_test(a.lo, a.hi, r.o, inv_d, r.min_t, r.max_t, &ta)) stack[sp++] = n.first;
+    const int h = slab_test_pair(&nodes_[n.first], pray, r.min_t, r.max_t, &ta, &tb);
+    if (h & 2) stack[sp++] = n.first + 1;
+    if (h & 1) stack[sp++] = n.first;
   }
   stats.primitive_tests += tests;
   stats.node_visits += visits;

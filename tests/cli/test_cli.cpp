@@ -117,8 +117,8 @@ TEST_CASE("bad scene files fail with one line naming the file", "[cli]") {
 TEST_CASE("a render writes the PNG, the rate PNG and the PFM, and prints the course's lines", "[cli]") {
   test::TempDir dir;
   test::write_text(dir.file("tiny.dae"), kTinyScene);
-  const auto r = run_pathtracer({"-t", "2", "-s", "2", "-r", "32", "24", "-f", "out.png", "--pfm", "out.pfm",
-                                 dir.file("tiny.dae")},
+  const auto r = run_pathtracer({"--part", "2", "-t", "2", "-s", "2", "-r", "32", "24", "-f", "out.png", "--pfm",
+                                 "out.pfm", dir.file("tiny.dae")},
                                 dir.path());
   INFO(r.out << r.err);
   REQUIRE(r.exit_code == 0);
@@ -126,7 +126,7 @@ TEST_CASE("a render writes the PNG, the rate PNG and the PFM, and prints the cou
                            "[PathTracer] Average speed", "intersection tests per ray.",
                            "[PathTracer] Saving to file: out.png... Done!", "[PathTracer] Job completed."})
     CHECK(r.out.find(line) != std::string::npos);
-  // The default part has a BVH: the course's lines for it, exact counts.
+  // Part 2 has a BVH: the course's lines for it, exact counts.
   CHECK(r.out.find("[PathTracer] Building BVH from 1 primitives... Done!") != std::string::npos);
   CHECK(r.out.find("[PathTracer] BVH traced 1536 rays.") != std::string::npos);  // 32 * 24 * 2
   test::Png png, rate;
@@ -146,7 +146,7 @@ TEST_CASE("a render writes the PNG, the rate PNG and the PFM, and prints the cou
 TEST_CASE("without -f the image is named after the scene", "[cli]") {
   test::TempDir dir;
   test::write_text(dir.file("tiny.dae"), kTinyScene);
-  const auto r = run_pathtracer({"tiny.dae"}, dir.path());
+  const auto r = run_pathtracer({"--part", "2", "tiny.dae"}, dir.path());
   REQUIRE(r.exit_code == 0);
   CHECK(test::file_exists(dir.file("tiny_rate.png")));
   // The course's default size, 800x600, and the whole triangle in view:

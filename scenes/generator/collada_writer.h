@@ -127,6 +127,10 @@ inline void write_lights(XmlOut& x, const Scene& s) {
       x.open("ambient");
       x.leaf("color", rgb(l.color), {{"sid", "color"}});
       x.close();
+    } else if (l.kind == LightKind::Directional) {
+      x.open("directional");
+      x.leaf("color", rgb(l.color), {{"sid", "color"}});
+      x.close();
     } else {
       // Area lights carry a point-light fallback here (the schema requires a
       // technique_common); CGL-aware readers use the <extra> below instead.

@@ -1,28 +1,52 @@
 // make_scenes: writes the project's canonical scenes (scenes/*.dae) in the
 // course's COLLADA dialect.
 //
-//   make_scenes OUTDIR            write every scene into OUTDIR
-//   make_scenes --check OUTDIR    exit 1 if any scene in OUTDIR is missing or
-//                                 differs from what the generator writes
+//   make_scenes [OPTIONS] OUTDIR         write every scene into OUTDIR
+//   make_scenes --check [OPTIONS] OUTDIR exit 1 if a scene in OUTDIR is
+//                                        missing or differs from what the
+//                                        generator writes
+// Options:
+//   --sources DIR       the folder fetch_sources.sh filled (default:
+//                       $PT_SCENE_SOURCES, else the repository's
+//                       build/scene-sources)
+//   --no-sources        build only the scenes that need no third-party data
+//   --require-sources   fail (exit 1) if any scene had to be skipped
 //
-// The scenes are authored here from published facts about the course's
-// Cornell box (dimensions, colours, light and sphere placement); see
-// scenes/README.md for what each one is for. Output is deterministic: the
-// same generator always writes the same bytes.
+// The Cornell boxes and the analytic scenes are authored here from
+// published facts about the course's scenes. The mesh scenes are built from
+// pinned third-party files (sources.txt): a scene whose sources are not in
+// the cache is skipped, and said so; with --check its committed file must
+// still exist. See scenes/README.md for what each scene is for. Output is
+// deterministic: the same generator and sources always write the same bytes.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <iterator>
+#include <map>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "collada_writer.h"
+#include "decimate.h"
+#include "mesh_tools.h"
 #include "scene_model.h"
+#include "sources.h"
+#include "teapot.h"
+
+#ifndef PT_SCENE_MANIFEST
+#error "PT_SCENE_MANIFEST (the path of sources.txt) must be defined by the build"
+#endif
+#ifndef PT_SCENE_SOURCES_DEFAULT
+#error "PT_SCENE_SOURCES_DEFAULT (the default source cache) must be defined by the build"
+#endif
 
 namespace fs = std::filesystem;
 using namespace scenegen;
@@ -96,8 +120,8 @@ Xform course_camera(const Scene& s, V3 dir_to_camera) {
 //   x in [-1, 1], y in [0, 1.5], z in [-1, 1], open at z = +1;
 //   floor, ceiling and back wall 0.6 grey, left wall (x = -1) red
 //   0.6 0.2 0.2, right wall (x = +1) blue 0.2 0.2 0.6;
-//   an emissive quad (radiance 10) 0.8 wide (x) and 0.6 deep (z) just below
-//   the ceiling at y = 1.49.
+//   an emissive quad (radiance 10) just below the ceiling at y = 1.49,
+//   covering the area light's rectangle (0.6 along x, 0.8 along z).
 // Winding follows the course's files: each wall's right-hand normal points
 // out of the box and the light quad's points down. (The course recomputes
 // normals from the winding; keeping its winding keeps its shading.)
@@ -122,7 +146,11 @@ void add_cornell_box(Scene& s) {
   s.meshes.push_back(quad("backWall", "backWall", {-1, 0, -1}, {-1, h, -1}, {1, h, -1}, {1, 0, -1}, {0, 0, -1}));
   s.meshes.push_back(quad("leftWall", "leftWall", {-1, 0, -1}, {-1, 0, 1}, {-1, h, 1}, {-1, h, -1}, {-1, 0, 0}));
   s.meshes.push_back(quad("rightWall", "rightWall", {1, 0, -1}, {1, h, -1}, {1, h, 1}, {1, 0, 1}, {1, 0, 0}));
-  s.meshes.push_back(quad("light", "light", {-0.4, y, -0.3}, {0.4, y, -0.3}, {0.4, y, 0.3}, {-0.4, y, 0.3}, {0, -1, 0}));
+  // The quad covers exactly the area light's rectangle (0.6 along x, 0.8
+  // along z), so that hemisphere sampling (-H), which sees the quad, and
+  // light sampling, which samples the light, estimate the same light. (The
+  // course's quad is the light turned by 90 degrees.)
+  s.meshes.push_back(quad("light", "light", {-0.3, y, -0.4}, {0.3, y, -0.4}, {0.3, y, 0.4}, {-0.3, y, 0.4}, {0, -1, 0}));
 }
 
 // The course's CGL area light: the node scales a unit square 0.6 (file x,
@@ -245,8 +273,242 @@ Scene sphere_ambient() {
   return s;
 }
 
-std::vector<Scene> all_scenes() {
-  return {cb_empty(), cb_spheres_lambertian(), cb_spheres(), plane_arealight(), sphere_ambient()};
+// ---------------------------------------------------------------------------
+// Meshes from the pinned third-party sources (sources.txt)
+
+// The course's CBbunny has 28,576 triangles; ours has the same count, so
+// timings compare directly.
+const size_t kBunnyTriangles = 28576;
+const size_t kDragonTriangles = 100000;
+const size_t kLargeDragonTriangles = 200000;
+// Each of the teapot's 32 patches becomes a 16 x 16 grid of quads.
+const int kTeapotSegments = 16;
+
+// Reads the source meshes once, cleans them and keeps the results, so that
+// scenes sharing a mesh (and the two dragon resolutions, made in one
+// decimation pass) do the work once.
+class MeshLibrary {
+ public:
+  explicit MeshLibrary(const SourceSet& src) : src_(src) {}
+
+  // The Stanford bunny: CGAL's closed bunny00.off (75,408 triangles),
+  // decimated.
+  const IndexedMesh& bunny() {
+    if (!bunny_) bunny_ = std::make_unique<IndexedMesh>(decimate(closed_source("bunny00.off"), {kBunnyTriangles})[0]);
+    return *bunny_;
+  }
+  // The Stanford dragon: the full-resolution reconstruction (871,414
+  // triangles), welded and decimated to 200,000 and then 100,000 triangles.
+  const IndexedMesh& dragon(size_t triangles) {
+    if (dragons_.empty()) {
+      std::vector<IndexedMesh> d =
+          decimate(closed_source("dragon_vrip.ply"), {kLargeDragonTriangles, kDragonTriangles});
+      dragons_[kLargeDragonTriangles] = std::move(d[0]);
+      dragons_[kDragonTriangles] = std::move(d[1]);
+    }
+    return dragons_.at(triangles);
+  }
+  // The Stanford armadillo as CGAL distributes it (52,000 triangles, closed).
+  const IndexedMesh& armadillo() {
+    if (!armadillo_) armadillo_ = std::make_unique<IndexedMesh>(closed_source("armadillo.off"));
+    return *armadillo_;
+  }
+  // CGAL's cow (5,804 triangles, closed).
+  const IndexedMesh& cow() {
+    if (!cow_) cow_ = std::make_unique<IndexedMesh>(closed_source("cow.off"));
+    return *cow_;
+  }
+  // The Utah teapot from its Bezier patches. Not closed: the lid and body
+  // do not meet, and the spout and handle end open inside the body.
+  const IndexedMesh& teapot() {
+    if (!teapot_) {
+      const std::string name = "TeapotGeometry.js";
+      IndexedMesh m = tessellate_patches(read_teapot_patches(src_.read(name), src_.path(name)), kTeapotSegments);
+      // The patches' (u, v) order makes dP/du x dP/dv point into the pot.
+      reverse_winding(m);
+      // The data is Z up with the spout along +X: turn it to Y up
+      // (x, y, z) -> (x, z, -y), a rotation.
+      for (V3& p : m.v) p = V3{p.x, p.z, -p.y};
+      teapot_ = std::make_unique<IndexedMesh>(std::move(m));
+    }
+    return *teapot_;
+  }
+
+ private:
+  // Reads an OFF or PLY source, merges its duplicate vertices (keeping
+  // apart the sheets of a surface that merely touch at a point), checks
+  // that it is closed and winds it outward (positive enclosed volume).
+  IndexedMesh closed_source(const std::string& name) {
+    const std::string text = src_.read(name);
+    const std::string what = src_.path(name);
+    IndexedMesh m = name.size() > 4 && name.compare(name.size() - 4, 4, ".ply") == 0 ? read_ply_ascii(text, what)
+                                                                                      : read_off(text, what);
+    m = weld_exact(m);
+    const Topology t = topology(m);
+    if (!t.closed())
+      throw std::runtime_error(what + ": expected a closed mesh after welding (" + std::to_string(t.boundary_edges) +
+                               " boundary, " + std::to_string(t.nonmanifold_edges) + " non-manifold, " +
+                               std::to_string(t.misoriented_edges) + " misoriented edges)");
+    m = split_pinched_vertices(m);
+    if (signed_volume(m) < 0) reverse_winding(m);
+    return m;
+  }
+
+  const SourceSet& src_;
+  std::unique_ptr<IndexedMesh> bunny_, armadillo_, cow_, teapot_;
+  std::map<size_t, IndexedMesh> dragons_;
+};
+
+Mesh scene_mesh(const std::string& name, const std::string& material, const IndexedMesh& m, bool closed) {
+  Mesh r;
+  r.name = name;
+  r.material = material;
+  r.vertices = m.v;
+  r.triangles = m.t;
+  r.closed = closed;
+  return r;
+}
+
+// The course's CBbunny, stated in our (unmirrored) box: the bunny stands on
+// the floor in the middle of the box, 0.772 tall (its bounding box is about
+// 0.78 wide, 0.77 tall and 0.60 deep), its lowest point 2 mm above the
+// floor. Our camera looks from +z where the course's file looks from -z at a
+// mirrored box; keeping the bunny in its source orientation here gives the
+// same view of it as the course's image (head on the left).
+Scene cb_bunny(MeshLibrary& lib) {
+  Scene s;
+  s.file = "CBbunny.dae";
+  s.purpose = "Cornell box with the CGL area light and the Stanford bunny (28,576 triangles, diffuse 0.5)";
+  add_cornell_box(s);
+  s.materials.push_back(diffuse("bunny", {0.5, 0.5, 0.5}));
+  s.lights.push_back(cornell_area_light());
+  IndexedMesh m = lib.bunny();
+  place_on_floor(m, 0, 1, 0.772, 0.002);
+  s.meshes.push_back(scene_mesh("bunny", "bunny", m, true));
+  s.camera = course_camera(s, {0, 0, 1});
+  return s;
+}
+
+// The Stanford dragon in the box, side on (head to the left), 1.4 long
+// (x), on the floor.
+Scene cb_dragon(MeshLibrary& lib, size_t triangles, const std::string& file, const std::string& purpose) {
+  Scene s;
+  s.file = file;
+  s.purpose = purpose;
+  add_cornell_box(s);
+  s.materials.push_back(diffuse("dragon", {0.5, 0.5, 0.5}));
+  s.lights.push_back(cornell_area_light());
+  IndexedMesh m = lib.dragon(triangles);
+  place_on_floor(m, 0, 0, 1.4, 0.002);
+  s.meshes.push_back(scene_mesh("dragon", "dragon", m, true));
+  s.camera = course_camera(s, {0, 0, 1});
+  return s;
+}
+
+// Like the course's meshedit scenes (cow.dae): one diffuse mesh (albedo
+// 0.48) in empty space, lit by a directional light of radiance 1 from
+// (-0.5, 0.7071, 0.5) (up, left and in front). The mesh is centred on the
+// origin with its largest side 1 long, after turning it by
+// `rotate_y_degrees` about +Y to face the camera. The light's node sits 2 units out
+// along that direction with its -Z axis pointing back: readers that take the
+// direction from the node's rotation and readers that (like the course)
+// take it from the point T (0,0,-1,1) then find the same direction.
+Scene open_mesh_scene(const std::string& file, const std::string& purpose, const std::string& name,
+                      IndexedMesh m, bool closed, double rotate_y_degrees, V3 dir_to_camera) {
+  Scene s;
+  s.file = file;
+  s.purpose = purpose;
+  s.materials.push_back(diffuse(name, {0.48, 0.48, 0.48}));
+  for (V3& p : m.v) p = rotate_y(p, rotate_y_degrees);
+  center_and_fit(m, 1.0);
+  s.meshes.push_back(scene_mesh(name, name, m, closed));
+  Light l;
+  l.name = "DirectionalLight";
+  l.kind = LightKind::Directional;
+  l.color = {1, 1, 1};
+  const V3 toward_light = normalize(V3{-0.5, 0.70710678118654752, 0.5});
+  l.node = camera_frame(2.0 * toward_light, toward_light);
+  s.lights.push_back(l);
+  s.camera = course_camera(s, dir_to_camera);
+  return s;
+}
+
+Scene cow(MeshLibrary& lib) {
+  return open_mesh_scene("cow.dae", "the cow (5,804 triangles) under a directional light, like the course's meshedit scenes",
+                         "cow", lib.cow(), true, 0, {0, 0, 1});
+}
+
+Scene teapot(MeshLibrary& lib) {
+  return open_mesh_scene("teapot.dae",
+                         "the Utah teapot (16,256 triangles from its 32 Bezier patches, open) under a directional light",
+                         "teapot", lib.teapot(), false, 0, {0, 0.5, 1});
+}
+
+Scene armadillo(MeshLibrary& lib) {
+  return open_mesh_scene("armadillo.dae", "the Stanford armadillo (52,000 triangles) under a directional light",
+                         "armadillo", lib.armadillo(), true, 180, {0, 0, 1});
+}
+
+// The bunny of CBbunny, same size, on a 2 x 2 diffuse ground square under
+// an ambient (uniform sky) light of radiance 1: lighting that hemisphere
+// sampling (-H) and light sampling both reach, for comparing them.
+Scene bunny_ambient(MeshLibrary& lib) {
+  Scene s;
+  s.file = "bunny_ambient.dae";
+  s.purpose = "the Stanford bunny (28,576 triangles, diffuse 0.5) on a 2 x 2 ground square (diffuse 0.5) "
+              "under an ambient light of radiance 1";
+  s.materials.push_back(diffuse("ground", {0.5, 0.5, 0.5}));
+  s.materials.push_back(diffuse("bunny", {0.5, 0.5, 0.5}));
+  // Wound like the Cornell box floor (right-hand normal down), so that it
+  // faces up once the loader reverses the normals of a lone quad.
+  s.meshes.push_back(quad("ground", "ground", {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, {0, -1, 0}));
+  IndexedMesh m = lib.bunny();
+  place_on_floor(m, 0, 1, 0.772, 0.002);
+  s.meshes.push_back(scene_mesh("bunny", "bunny", m, true));
+  Light l;
+  l.name = "AmbientLight";
+  l.kind = LightKind::Ambient;
+  l.color = {1, 1, 1};
+  l.node = zup_frame({0, 0, 0});
+  s.lights.push_back(l);
+  s.camera = course_camera(s, {0, 0.5, 1});
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// The scene list
+
+struct Recipe {
+  std::string file;
+  std::vector<std::string> sources;  // files from sources.txt; none for authored scenes
+  std::function<Scene(MeshLibrary&)> build;
+};
+
+std::vector<Recipe> all_recipes() {
+  auto authored = [](Scene (*f)()) { return [f](MeshLibrary&) { return f(); }; };
+  return {
+      {"CBempty.dae", {}, authored(cb_empty)},
+      {"CBspheres_lambertian.dae", {}, authored(cb_spheres_lambertian)},
+      {"CBspheres.dae", {}, authored(cb_spheres)},
+      {"plane_arealight.dae", {}, authored(plane_arealight)},
+      {"sphere_ambient.dae", {}, authored(sphere_ambient)},
+      {"CBbunny.dae", {"bunny00.off"}, cb_bunny},
+      {"CBdragon.dae", {"dragon_vrip.ply"},
+       [](MeshLibrary& lib) {
+         return cb_dragon(lib, kDragonTriangles, "CBdragon.dae",
+                          "Cornell box with the CGL area light and the Stanford dragon (100,000 triangles, diffuse 0.5)");
+       }},
+      {"CBdragon_large.dae", {"dragon_vrip.ply"},
+       [](MeshLibrary& lib) {
+         return cb_dragon(lib, kLargeDragonTriangles, "CBdragon_large.dae",
+                          "Cornell box with the CGL area light and the Stanford dragon at 200,000 triangles, "
+                          "a scene that needs a BVH");
+       }},
+      {"cow.dae", {"cow.off"}, cow},
+      {"teapot.dae", {"TeapotGeometry.js"}, teapot},
+      {"armadillo.dae", {"armadillo.off"}, armadillo},
+      {"bunny_ambient.dae", {"bunny00.off"}, bunny_ambient},
+  };
 }
 
 // ---------------------------------------------------------------------------
@@ -260,6 +522,39 @@ V3 course_camera_position(const Scene& s) {
   const V3 c_dir = normalize(zup_to_world(front_file));
   const Bounds b = scene_bounds(s);
   return b.center() + (1.5 * length(b.extent())) * c_dir;
+}
+
+// Moves every mesh vertex to exactly the position its printed coordinates
+// give back, so that the checks below see what a reader of the file sees.
+// (Printing the snapped numbers again gives the same text.)
+void snap_to_file_precision(Scene& s) {
+  auto back = [](double v) { return std::strtod(num(v).c_str(), nullptr); };
+  for (Mesh& m : s.meshes)
+    for (V3& p : m.vertices) {
+      const V3 f = world_to_zup(p);
+      p = zup_to_world(V3{back(f.x), back(f.y), back(f.z)});
+    }
+}
+
+// Checks each mesh as a reader will load it (positions rounded to float):
+// no zero-area triangle, and closed meshes closed, consistently wound and
+// enclosing positive volume.
+void validate_mesh(const Scene& s, const Mesh& m) {
+  const std::string where = s.file + ": mesh '" + m.name + "'";
+  std::vector<V3> f(m.vertices.size());
+  for (size_t i = 0; i < f.size(); ++i) {
+    const V3 w = m.vertices[i];
+    f[i] = V3{double(float(w.x)), double(float(w.y)), double(float(w.z))};
+  }
+  for (const auto& t : m.triangles)
+    if (length(cross(f[size_t(t[1])] - f[size_t(t[0])], f[size_t(t[2])] - f[size_t(t[0])])) == 0)
+      throw std::logic_error(where + ": a triangle has zero area after rounding");
+  if (m.closed) {
+    IndexedMesh im{m.vertices, m.triangles};
+    const Topology topo = topology(im);
+    if (!topo.closed()) throw std::logic_error(where + ": is marked closed but is not");
+    if (signed_volume(im) <= 0) throw std::logic_error(where + ": is not wound outward");
+  }
 }
 
 void validate(const Scene& s) {
@@ -279,13 +574,19 @@ void validate(const Scene& s) {
     if (!has_material(m.material)) throw std::logic_error(s.file + ": unknown material " + m.material);
   for (const Sphere& sp : s.spheres)
     if (!has_material(sp.material)) throw std::logic_error(s.file + ": unknown material " + sp.material);
+  for (const Mesh& m : s.meshes) validate_mesh(s, m);
 }
 
 std::string light_summary(const Scene& s) {
   std::string r;
   for (const Light& l : s.lights) {
     if (!r.empty()) r += ", ";
-    r += l.kind == LightKind::Point ? "point" : l.kind == LightKind::Area ? "area" : "ambient";
+    switch (l.kind) {
+      case LightKind::Point: r += "point"; break;
+      case LightKind::Area: r += "area"; break;
+      case LightKind::Ambient: r += "ambient"; break;
+      case LightKind::Directional: r += "directional"; break;
+    }
   }
   return r;
 }
@@ -334,16 +635,22 @@ void write_atomically(const fs::path& target, const std::string& text) {
 }
 
 void usage(std::ostream& o) {
-  o << "usage: make_scenes [--check] OUTDIR\n"
+  o << "usage: make_scenes [--check] [--sources DIR | --no-sources] [--require-sources] OUTDIR\n"
        "  Writes the project's canonical scenes (COLLADA, course dialect) into OUTDIR.\n"
-       "  --check  write nothing; exit 1 if a scene in OUTDIR is missing or out of date.\n";
+       "  --check            write nothing; exit 1 if a scene in OUTDIR is missing or out of date\n"
+       "  --sources DIR      where fetch_sources.sh put the pinned mesh sources (default:\n"
+       "                     $PT_SCENE_SOURCES, else " PT_SCENE_SOURCES_DEFAULT ")\n"
+       "  --no-sources       only the scenes that need no third-party data\n"
+       "  --require-sources  exit 1 if a scene is skipped because its sources are missing\n"
+       "  Scenes whose sources are not fetched are skipped and listed; with --check their\n"
+       "  files must still exist in OUTDIR.\n";
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool check = false;
-  std::string outdir;
+  bool check = false, no_sources = false, require_sources = false;
+  std::string outdir, sources_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") {
@@ -351,6 +658,16 @@ int main(int argc, char** argv) {
       return 0;
     } else if (a == "--check") {
       check = true;
+    } else if (a == "--no-sources") {
+      no_sources = true;
+    } else if (a == "--require-sources") {
+      require_sources = true;
+    } else if (a == "--sources") {
+      if (i + 1 >= argc) {
+        std::cerr << "make_scenes: --sources needs a folder\n";
+        return 2;
+      }
+      sources_dir = argv[++i];
     } else if (!a.empty() && a[0] == '-') {
       std::cerr << "make_scenes: unknown option " << a << "\n";
       usage(std::cerr);
@@ -367,15 +684,43 @@ int main(int argc, char** argv) {
     usage(std::cerr);
     return 2;
   }
+  if (no_sources && (!sources_dir.empty() || require_sources)) {
+    std::cerr << "make_scenes: --no-sources cannot be combined with --sources or --require-sources\n";
+    return 2;
+  }
+  if (!no_sources && sources_dir.empty()) {
+    const char* env = std::getenv("PT_SCENE_SOURCES");
+    sources_dir = env && *env ? env : PT_SCENE_SOURCES_DEFAULT;
+  }
 
   try {
-    const std::vector<Scene> scenes = all_scenes();
+    const SourceSet sources(PT_SCENE_MANIFEST, no_sources ? std::string() : sources_dir);
+    MeshLibrary library(sources);
     if (!check) fs::create_directories(outdir);
     int stale = 0;
-    for (const Scene& s : scenes) {
+    std::vector<std::string> skipped;
+    for (const Recipe& r : all_recipes()) {
+      const fs::path target = fs::path(outdir) / r.file;
+      std::vector<std::string> absent;
+      for (const std::string& name : r.sources)
+        if (!sources.available(name)) absent.push_back(name);
+      if (!absent.empty()) {
+        std::string need;
+        for (const std::string& n : absent) need += (need.empty() ? "" : ", ") + n;
+        skipped.push_back(r.file);
+        if (check && !fs::exists(target)) {
+          std::cout << "missing: " << target.string() << " (and its sources: " << need << ")\n";
+          ++stale;
+        } else {
+          std::cout << "skipped: " << r.file << " (needs " << need << ")\n";
+        }
+        continue;
+      }
+      Scene s = r.build(library);
+      if (s.file != r.file) throw std::logic_error("recipe " + r.file + " built " + s.file);
+      snap_to_file_precision(s);
       validate(s);
       const std::string text = write_collada(s);
-      const fs::path target = fs::path(outdir) / s.file;
       if (check) {
         std::string current;
         if (!read_file(target, current)) {
@@ -392,8 +737,19 @@ int main(int argc, char** argv) {
         std::cout << "wrote " << target.string() << "  [" << summary(s) << "]\n";
       }
     }
+    if (!skipped.empty())
+      std::cout << skipped.size() << " scene(s) skipped: "
+                << (no_sources ? std::string("--no-sources was given")
+                               : "their sources are not in " + sources_dir + "/files") +
+                       "; fetch them with scenes/generator/fetch_sources.sh to "
+                << (check ? "check" : "build") << " those too\n";
     if (stale) {
-      std::cout << stale << " scene(s) need regenerating: make_scenes " << outdir << "\n";
+      std::cout << stale << " scene(s) missing or out of date; rebuild with make_scenes " << outdir
+                << " (the mesh scenes need their sources: scenes/generator/fetch_sources.sh)\n";
+      return 1;
+    }
+    if (require_sources && !skipped.empty()) {
+      std::cout << "make_scenes: --require-sources: " << skipped.size() << " scene(s) were skipped\n";
       return 1;
     }
   } catch (const std::exception& e) {

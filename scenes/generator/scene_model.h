@@ -91,6 +91,9 @@ struct Mesh {
   std::string material;
   std::vector<V3> vertices;
   std::vector<std::array<int, 3>> triangles;
+  // A closed surface: every edge is shared by exactly two triangles, wound
+  // counter-clockwise seen from outside. The generator checks it.
+  bool closed = false;
 };
 
 // An analytic sphere (the course's CGL <sphere> geometry).
@@ -101,7 +104,7 @@ struct Sphere {
   double radius = 1;
 };
 
-enum class LightKind { Point, Area, Ambient };
+enum class LightKind { Point, Area, Ambient, Directional };
 
 struct Light {
   std::string name;
@@ -110,7 +113,8 @@ struct Light {
   double constant_attenuation = 1;
   double linear_attenuation = 0;
   double quadratic_attenuation = 0;
-  Xform node;                     // position; area lights: size and facing too
+  Xform node;                     // position; area lights: size and facing too;
+                                  // directional lights shine along the node's -Z
 };
 
 struct Scene {

@@ -9,6 +9,7 @@ namespace pt {
 Ray generate_ray(const Camera& cam, double x, double y) {
   // BEGIN SOLUTION
   // STUB: todo_once("Part 1: generate_ray (stages/part1_raytracing/camera_rays.cpp)");
+  // STUB: (void)x; (void)y;
   // STUB: return Ray(Vec3(cam.position), Vec3(0, 0, -1), float(cam.near_clip), float(cam.far_clip));
   const double deg = 3.14159265358979323846 / 180.0;
   const double tan_h = std::tan(0.5 * cam.hfov_deg * deg);

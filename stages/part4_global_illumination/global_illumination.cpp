@@ -11,6 +11,7 @@ Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions&
                                    const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
   // STUB: todo_once("Part 4: at_least_one_bounce_radiance (stages/part4_global_illumination/global_illumination.cpp)");
+  // STUB: (void)opts;
   // STUB: return one_bounce_radiance(ctx, r, hit, rng);
   Color L(0.0f);
   const bool first_bounce = r.depth == opts.max_depth;

@@ -3,9 +3,10 @@
 # every ray tests every primitive) and with it (--part 2), per scene, as one
 # Markdown table of render times, speed-up, Mrays/s and tests per ray.
 #
-#   bench/bvh_table.sh [-r W H] [-s N] [-t N] [SCENE.dae ...]
+#   bench/bvh_table.sh [-r W H] [-s N] [-t N] [--repeat N] [SCENE.dae ...]
 #
-# Defaults: -r 160 120 -s 1 -t 1 (part 1 is slow on big meshes) and three
+# Defaults: -r 160 120 -s 1 -t 1 (part 1 is slow on big meshes), part 2 run
+# --repeat 5 times (median render time; part 1 runs once), and three
 # scenes: CBspheres_lambertian, the bunny and the dragon from scenes/ (the
 # course's bunny and cow from ../shared/cs184-scenes/ when the project's
 # meshes are absent). The figures come from the pathtracer's --stats-json;
@@ -15,21 +16,21 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
-width=160 height=120 spp=1 threads=1
+width=160 height=120 spp=1 threads=1 repeat=5
 scenes=()
 while [ $# -gt 0 ]; do
   case "$1" in
     -r) [ $# -ge 3 ] || { echo "bvh_table.sh: error: -r needs a width and a height" >&2; exit 2; }
         width=$2; height=$3; shift 3 ;;
-    -s|-t) [ $# -ge 2 ] || { echo "bvh_table.sh: error: $1 needs a value" >&2; exit 2; }
-        if [ "$1" = -s ]; then spp=$2; else threads=$2; fi; shift 2 ;;
-    -h|--help) sed -n '2,12p' "$root/bench/bvh_table.sh" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -s|-t|--repeat) [ $# -ge 2 ] || { echo "bvh_table.sh: error: $1 needs a value" >&2; exit 2; }
+        case "$1" in -s) spp=$2 ;; -t) threads=$2 ;; *) repeat=$2 ;; esac; shift 2 ;;
+    -h|--help) sed -n '2,13p' "$root/bench/bvh_table.sh" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "bvh_table.sh: error: unknown option $1" >&2; exit 2 ;;
     *) scenes+=("$1"); shift ;;
   esac
 done
-for v in "$width" "$height" "$spp" "$threads"; do
-  case "$v" in ''|*[!0-9]*|0) echo "bvh_table.sh: error: -r, -s and -t take positive integers, got '$v'" >&2; exit 2 ;; esac
+for v in "$width" "$height" "$spp" "$threads" "$repeat"; do
+  case "$v" in ''|*[!0-9]*|0) echo "bvh_table.sh: error: -r, -s, -t and --repeat take positive integers, got '$v'" >&2; exit 2 ;; esac
 done
 
 pick() {  # first existing file among the arguments
@@ -65,18 +66,26 @@ idx=0
 for scene in "${scenes[@]}"; do
   idx=$((idx + 1))
   stem=$(basename "$scene" .dae)
+  # Part 1 once (long enough to time); part 2 lasts milliseconds, so it is
+  # run $repeat times and the run with the median render time is reported.
   for part in 1 2; do
-    base="$out/$idx-$stem.part$part"
-    cmd=("$pathtracer" --part "$part" -r "$width" "$height" -s "$spp" -t "$threads" --no-progress
-         -f "$base.png" --stats-json "$base.json" "$scene")
-    echo "$scene: part $part ..." >&2
-    if ! "${cmd[@]}" >"$base.log" 2>&1; then
-      echo "bvh_table.sh: error: the pathtracer failed on $scene (part $part); see $base.log:" >&2
-      tail -3 "$base.log" >&2
-      exit 1
-    fi
-    jsons+=("$base.json")
-    commands+=("${cmd[*]}")
+    n=1
+    [ "$part" = 2 ] && n=$repeat
+    group=()
+    for k in $(seq 1 "$n"); do
+      base="$out/$idx-$stem.part$part.$k"
+      cmd=("$pathtracer" --part "$part" -r "$width" "$height" -s "$spp" -t "$threads" --no-progress
+           -f "$base.png" --stats-json "$base.json" "$scene")
+      echo "$scene: part $part ($k/$n) ..." >&2
+      if ! "${cmd[@]}" >"$base.log" 2>&1; then
+        echo "bvh_table.sh: error: the pathtracer failed on $scene (part $part); see $base.log:" >&2
+        tail -3 "$base.log" >&2
+        exit 1
+      fi
+      group+=("$base.json")
+      [ "$k" = 1 ] && commands+=("${cmd[*]}")
+    done
+    jsons+=("$(IFS=,; echo "${group[*]}")")
   done
 done
 
@@ -89,18 +98,24 @@ echo
 python3 - "${jsons[@]}" <<'PY'
 import json, os, sys
 
+def median_run(group):
+    """The run with the median render time among comma-separated JSON files."""
+    runs = sorted((json.load(open(p)) for p in group.split(",")), key=lambda j: j["render_seconds"])
+    return runs[len(runs) // 2]
+
 files = sys.argv[1:]
 print("| scene | primitives | part 1 render s | part 2 render s | BVH build s | speed-up | Mrays/s (part 2) | tests/ray part 1 | tests/ray part 2 | nodes/ray part 2 |")
 print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 for p1_path, p2_path in zip(files[0::2], files[1::2]):
-    p1, p2 = (json.load(open(p)) for p in (p1_path, p2_path))
+    p1, p2 = median_run(p1_path), median_run(p2_path)
     speedup = p1["render_seconds"] / p2["render_seconds"] if p2["render_seconds"] > 0 else float("inf")
     print(f"| {os.path.basename(p1['scene'])} | {p1['primitives']} | {p1['render_seconds']:.3f} | {p2['render_seconds']:.4f} "
           f"| {p2['bvh_build_seconds']:.4f} | {speedup:.1f}x | {p2['mrays_per_second']:.2f} "
           f"| {p1['tests_per_ray']:.1f} | {p2['tests_per_ray']:.2f} | {p2['nodes_per_ray']:.2f} |")
 PY
 echo
-echo "Render times exclude loading and the BVH build (shown separately). Commands (from $root):"
+echo "Render times exclude loading and the BVH build (shown separately); part 2: the run with the median"
+echo "render time of $repeat. Commands (from $root; part 2 run $repeat times):"
 echo
 echo '```'
 printf '%s\n' "${commands[@]}"

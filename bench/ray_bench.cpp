@@ -24,24 +24,13 @@
 #include <vector>
 
 #include "brute_force.h"
-#ifndef PT_BENCH_NO_BVH
 #include "bvh.h"
-#endif
 #include "collada.h"
 #include "options.h"
 #include "ray_files.h"
 #include "ray_sets.h"
 #include "render_job.h"
 #include "stats.h"
-
-#ifdef PT_BENCH_NO_BVH
-namespace pt {
-struct BVHOptions {  // the part 2 options, for parsing only
-  int max_leaf_size = 4;
-  int bins = 12;
-};
-}  // namespace pt
-#endif
 
 namespace {
 
@@ -217,23 +206,16 @@ int run(const Args& args) {
   // Build: best of --reps; the last tree is the one traced.
   std::unique_ptr<pt::Intersector> isect;
   double build_best = 1e30;
-#ifdef PT_BENCH_NO_BVH
-  if (!args.brute_force)
-    throw std::runtime_error("this build has no BVH (stages/part2_bvh is not built); only --engine brute works");
-#else
   const pt::BVH* bvh = nullptr;
-#endif
   for (int rep = 0; rep < args.reps; ++rep) {
     isect.reset();
     const auto t0 = Clock::now();
     if (args.brute_force) {
       isect = std::make_unique<pt::BruteForceIntersector>(scene);
     } else {
-#ifndef PT_BENCH_NO_BVH
       auto tree = std::make_unique<pt::BVH>(scene, args.bvh);
       bvh = tree.get();
       isect = std::move(tree);
-#endif
     }
     build_best = std::min(build_best, seconds(t0, Clock::now()));
   }
@@ -290,7 +272,6 @@ int run(const Args& args) {
     std::printf("triangles: %zu\n", scene.triangles.size());
     std::printf("rays: %zu\n", s.rays->size());
     std::printf("build_ms: %.3f\n", build_best * 1e3);
-#ifndef PT_BENCH_NO_BVH
     if (bvh) {
       const pt::BVHBuildStats& bs = bvh->build_stats();
       std::printf("bvh_nodes: %zu\n", bs.nodes);
@@ -298,7 +279,6 @@ int run(const Args& args) {
       std::printf("bvh_depth: %d\n", bs.depth);
       std::printf("bvh_sah_cost: %.3f\n", bs.sah_cost);
     }
-#endif
     std::printf("closest_hits: %llu\n", (unsigned long long)c.count);
     std::printf("closest_sum_t: %.6e\n", c.sum_t);
     std::printf("closest_mrays_per_s: %.3f\n", mrays_per_s(s.rays->size(), c.best_seconds));

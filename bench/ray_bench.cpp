@@ -102,6 +102,8 @@ Args parse_args(int argc, char** argv) {
       a.height = parse_number<int>(arg, value(), 1, 16384);
     } else if (arg == "--leaf") {
       a.bvh.max_leaf_size = parse_number<int>(arg, value(), 1, 255);
+    } else if (arg == "--cost") {
+      a.bvh.traversal_cost = parse_number<float>(arg, value(), 0.0f, 100.0f);
     } else if (arg == "--bins") {
       a.bvh.bins = parse_number<int>(arg, value(), 2, 1024);
     } else if (arg == "--seed") {

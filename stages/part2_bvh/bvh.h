@@ -30,6 +30,7 @@ static_assert(sizeof(BVHNode) == 32, "BVHNode must be 32 bytes");
 struct BVHOptions {
   int max_leaf_size = 4;  // leaves hold at most this many primitives
   int bins = 12;          // SAH bins per axis
+  float traversal_cost = 1.0f;  // SAH: cost of visiting a node relative to one primitive test
 };
 
 struct BVHBuildStats {

@@ -20,8 +20,6 @@ struct PrimInfo {
 };
 
 constexpr int kMedianDepth = 96;
-// Cost of visiting a node relative to testing one primitive (SAH).
-constexpr float kTraversalCost = 1.0f;
 
 struct Builder {
   const BVHOptions& opt;
@@ -112,7 +110,7 @@ struct Builder {
     // C_trav + (A_left N_left + A_right N_right) / A * C_isect.
     if (count <= size_t(opt.max_leaf_size)) {
       const float area = box.surface_area();
-      const float split_cost = kTraversalCost + (area > 0 ? best_cost / area : 0.0f);
+      const float split_cost = opt.traversal_cost + (area > 0 ? best_cost / area : 0.0f);
       if (best_axis < 0 || float(count) <= split_cost) {
         make_leaf(index, begin, end, box, depth);
         return;

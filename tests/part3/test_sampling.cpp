@@ -14,13 +14,16 @@
 // tolerances, exact per-sample values).
 //
 // Deliberate bug -> test that catches it (each verified by hand once):
-//   uniform hemisphere drawn with z = sqrt(u1)     -> uniform hemisphere ... chi-square
-//   uniform_hemisphere_pdf() returns 1/pi          -> sampler pdfs integrate to 1
-//   cosine sampler draws z = u1 (not sqrt(1-u1))   -> cosine hemisphere ... chi-square
+//   uniform hemisphere drawn with z = sqrt(u1)     -> uniform hemisphere ... chi-square,
+//                                                     ambient light sampling ... chi-square
+//   uniform_hemisphere_pdf() returns 1/pi          -> sampler pdfs integrate to 1,
+//                                                     ambient light sampling ... (its pdf)
+//   cosine sampler with radius u1 (not sqrt(u1))   -> cosine hemisphere ... chi-square,
+//                                                     diffuse sample_f ... chi-square (both)
 //   diffuse f = albedo (not divided by pi)         -> diffuse sample_f returns ...
-//   Frame::from_normal with a wrong sign for n.z<0 -> the shading frame is orthonormal ...,
-//                                                     diffuse sample_f turned to world space ...
-//   area light point drawn over +-dim (not +-dim/2)-> area light sampling ... chi-square
+//   Frame::from_normal with a wrong sign for n.z<0 -> the shading frame is orthonormal ...
+//   area light point drawn over +-dim (not +-dim/2)-> area light sampling ... chi-square,
+//                                                     area light pdf integrates to 1 ...
 //   area light pdf without the cosine at the light -> area light pdf integrates to 1 ...,
 //                                                     area light samples report ...
 //   area light two-sided (no check of its side)    -> area light samples report ...

@@ -240,19 +240,44 @@ struct DirectionBins {
 
   // Integral of `pdf` (a density per steradian of world directions) over
   // each cell, by the midpoint rule on sub x sub sub-cells in (cos, phi).
+  // With refine > 1, a sub-cell whose centre and corners disagree on
+  // whether the density is zero (it straddles the edge of the support, where
+  // the density jumps) is integrated on refine x refine points instead.
   // The last entry is the integral over the directions outside the cap (on
   // a grid of at most 256 x 512 points; left 0 with include_outside false).
   std::vector<double> integrate(const std::function<double(const Vec3&)>& pdf, int sub,
-                                bool include_outside = true) const {
+                                bool include_outside = true, int refine = 1) const {
     std::vector<double> mass(size_t(size()), 0.0);
     const double dc = (1.0 - cos_min) / n_cos, dp = 2.0 * M_PI / n_phi;
     const double sc = dc / sub, sp = dp / sub;
+    std::vector<char> corner(size_t(sub + 1) * (sub + 1));
     for (int i = 0; i < n_cos; ++i)
       for (int j = 0; j < n_phi; ++j) {
+        const double c0 = cos_min + i * dc, p0 = j * dp;
+        if (refine > 1)
+          for (int a = 0; a <= sub; ++a)
+            for (int b = 0; b <= sub; ++b)
+              corner[size_t(a) * (sub + 1) + b] = pdf(direction(std::min(1.0, c0 + a * sc), p0 + b * sp)) > 0;
         double sum = 0;
         for (int a = 0; a < sub; ++a)
-          for (int b = 0; b < sub; ++b)
-            sum += pdf(direction(cos_min + i * dc + (a + 0.5) * sc, j * dp + (b + 0.5) * sp));
+          for (int b = 0; b < sub; ++b) {
+            const double centre = pdf(direction(c0 + (a + 0.5) * sc, p0 + (b + 0.5) * sp));
+            bool straddles = false;
+            if (refine > 1) {
+              const bool in = centre > 0;
+              for (int k = 0; k < 4; ++k)
+                straddles |= corner[size_t(a + k / 2) * (sub + 1) + b + k % 2] != in;
+            }
+            if (!straddles) {
+              sum += centre;
+              continue;
+            }
+            double fine = 0;
+            for (int u = 0; u < refine; ++u)
+              for (int v = 0; v < refine; ++v)
+                fine += pdf(direction(c0 + (a + (u + 0.5) / refine) * sc, p0 + (b + (v + 0.5) / refine) * sp));
+            sum += fine / (double(refine) * refine);
+          }
         mass[size_t(i * n_phi + j)] = sum * sc * sp;
       }
     if (include_outside && cos_min > -1.0) {

@@ -12,6 +12,12 @@ namespace pt {
 // Radiance arriving along a camera ray; draws its random numbers from `rng`.
 using RadianceFn = std::function<Color(const Ray& r, Rng& rng)>;
 
+// The camera ray of one sample of pixel (x, y): through the pixel centre
+// when `jitter` is false, else through a uniformly random point of the
+// pixel, with its random numbers drawn from `rng` (a thin lens, -b > 0,
+// takes two more).
+Ray camera_sample_ray(const Camera& cam, int x, int y, bool jitter, Rng& rng);
+
 // The estimate of pixel (x, y) (integer pixel coordinates, (0, 0) at the
 // bottom-left) from `num_samples` camera samples.
 // Contract: with one sample, the ray through the pixel centre; otherwise

@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include "camera_rays.h"
 #include "todo.h"
 
 namespace pt {
@@ -32,15 +31,7 @@ Color raytrace_pixel_adaptive(const Camera& cam, int x, int y, int max_samples, 
   int n = 0;
   while (n < max_samples) {
     Rng rng = Rng::for_sample(seed, pixel, uint64_t(n));
-    double dx = 0.5, dy = 0.5;
-    if (max_samples > 1) {
-      dx = rng.uniform();
-      dy = rng.uniform();
-    }
-    const double u = (x + dx) / cam.width, v = (y + dy) / cam.height;
-    const Ray r = cam.lens_radius > 0 ? thin_lens_ray(cam, u, v, rng.uniform(), rng.uniform())
-                                      : generate_ray(cam, u, v);
-    const Color L = radiance(r, rng);
+    const Color L = radiance(camera_sample_ray(cam, x, y, max_samples > 1, rng), rng);
     sum += L;
     const double xi = illum(L);
     s1 += xi;

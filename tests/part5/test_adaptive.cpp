@@ -81,10 +81,10 @@ TEST_CASE("adaptive pixel draws the same samples as raytrace_pixel", "[part5][ad
 
 namespace {
 
-// The project's Cornell box with spheres, at a low resolution showing the
-// whole 800x600 course frame.
+// The project's Cornell box with the bunny, at a low resolution showing
+// the whole 800x600 course frame.
 Scene load_box(int w, int h) {
-  Scene s = load_collada(test::project_scene("CBspheres_lambertian.dae"));
+  Scene s = load_collada(test::project_scene("CBbunny.dae"));
   s.camera.screen_dist *= double(w) / 800.0;
   s.camera.set_resolution(w, h);
   return s;
@@ -158,9 +158,9 @@ TEST_CASE("an adaptive render agrees in mean with the non-adaptive one, block by
   }
 }
 
-TEST_CASE("the sample rate is lower on the back wall than along the spheres' shadow edges", "[part5][adaptive]") {
+TEST_CASE("the sample rate is lower on the back wall than along the bunny's shadow edges", "[part5][adaptive]") {
   // -s 2048 -a 64 0.05 at 40x30. The back wall converges early; the floor
-  // under the spheres, in their soft shadows, does not. PT_DUMP_RATE=1
+  // around the bunny's base, in its soft shadow, does not. PT_DUMP_RATE=1
   // prints the rate map (0-9) to see the regions.
   const int w = 40, h = 30;
   const Scene s = load_box(w, h);
@@ -180,9 +180,10 @@ TEST_CASE("the sample rate is lower on the back wall than along the spheres' sha
       for (int x = 0; x < w; ++x) std::printf("%d", std::min(9, int(r.image.samples[r.image.index(x, y)] * 10 / 2049)));
       std::printf("\n");
     }
-  // The box fills the middle of the frame (x 8..31, y 6..23).
-  const double wall = mean_rate(12, 14, 28, 18);    // back wall, above the spheres
-  const double shadows = mean_rate(13, 7, 29, 12);  // floor around and under the spheres
+  // The box fills the middle of the frame (x 8..31, y 6..23), the bunny
+  // x 16..23, y 7..14.
+  const double wall = mean_rate(10, 15, 30, 19);   // back wall, above the bunny
+  const double shadows = mean_rate(14, 7, 24, 9);  // floor along the bunny's base
   INFO("wall rate " << wall << ", shadow rate " << shadows);
   CHECK(wall < 0.5 * shadows);
   for (uint32_t n : r.image.samples) {

@@ -23,6 +23,7 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // one-sided (no radiance behind it). Point light: intensity scaled by the
 // COLLADA attenuation 1 / (c + l d + q d^2). Directional: radiance along
 // its direction. Ambient: uniform over the upper (+Y) hemisphere.
+// Environment: uniform over the sphere (pdf 1 / (4 pi)).
 inline LightSample sample_light(const Light& light, const Vec3& p, float u1, float u2) {
   LightSample s;
   switch (light.type) {
@@ -57,6 +58,15 @@ inline LightSample sample_light(const Light& light, const Vec3& p, float u1, flo
       s.pdf = 1.0f;
       s.radiance = light.radiance;
       return s;
+    case LightType::Environment: {
+      // Uniform over the sphere; the map's radiance along the direction.
+      const float z = 1.0f - 2.0f * u1, r = std::sqrt(std::fmax(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u2;
+      s.wi = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+      s.distance = kInfinity;
+      s.pdf = 1.0f / (4.0f * kPi);
+      s.radiance = light.environment ? light.environment->lookup(s.wi) : Color(0.0f);
+      return s;
+    }
     case LightType::Ambient: {
       const Vec3 w = sample_uniform_hemisphere(u1, u2);  // about +Z; turn to +Y
       s.wi = Vec3(w.x, w.z, -w.y);
@@ -69,12 +79,14 @@ inline LightSample sample_light(const Light& light, const Vec3& p, float u1, flo
   return s;
 }
 
-// Radiance that lights at infinity (ambient) send along a ray that escapes
-// the scene in direction d (pointing away from the scene).
+// Radiance that lights at infinity (ambient, environment) send along a ray
+// that escapes the scene in direction d (pointing away from the scene).
 inline Color escaped_radiance(const std::vector<Light>& lights, const Vec3& d) {
   Color L(0.0f);
-  for (const Light& l : lights)
+  for (const Light& l : lights) {
     if (l.type == LightType::Ambient && d.y > 0) L += l.radiance;
+    if (l.type == LightType::Environment && l.environment) L += l.environment->lookup(d);
+  }
   return L;
 }
 

@@ -20,6 +20,7 @@ const char* to_string(LightType t) {
     case LightType::Point: return "point";
     case LightType::Directional: return "directional";
     case LightType::Ambient: return "ambient";
+    case LightType::Environment: return "environment";
   }
   return "?";
 }

@@ -6,7 +6,10 @@
 #include <vector>
 
 #include "bbox.h"
+#include <memory>
+
 #include "camera.h"
+#include "environment.h"
 #include "vec3.h"
 
 namespace pt {
@@ -53,7 +56,7 @@ struct Material {
   bool is_emissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
 
-enum class LightType { Area, Point, Directional, Ambient };
+enum class LightType { Area, Point, Directional, Ambient, Environment };
 
 const char* to_string(LightType t);
 
@@ -65,9 +68,13 @@ struct Light {
   // position ± dim_x/2 ± dim_y/2, emitting into the half-space of `direction`.
   // Point light: `position`. Directional light: `direction` is the way the
   // light travels (unit). Ambient: uniform radiance from the +Y hemisphere.
+  // Environment: radiance from every direction, from `environment`.
   Vec3 position;
   Vec3 direction;
   Vec3 dim_x, dim_y;
+
+  // Environment light (-e): the map of radiance from every direction.
+  std::shared_ptr<const EnvironmentMap> environment;
 
   // COLLADA point-light attenuation 1 / (c + l d + q d^2).
   float constant_attenuation = 1.0f;

@@ -109,8 +109,6 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
   if (o->part > kPartsBuilt)
     return fail("--part " + std::to_string(o->part) + ": this build implements parts 1 to " +
                 std::to_string(kPartsBuilt) + " only");
-  if (!o->env_map.empty())
-    return fail("-e: environment maps are not supported by this renderer (none of the five parts uses them)");
   return std::nullopt;
 }
 

@@ -181,6 +181,8 @@ int run_render_job(const RenderOptions& opts) {
     if (!opts.output_pfm.empty()) check_writable(opts.output_pfm);
 
     if (!opts.stats_json.empty()) check_writable(opts.stats_json);
+    if (!opts.env_map.empty() && !std::filesystem::is_regular_file(opts.env_map))
+      throw std::runtime_error(opts.env_map + ": no such environment map");
 
     auto t0 = Clock::now();
     std::printf("[PathTracer] Collecting primitives... ");
@@ -197,6 +199,12 @@ int run_render_job(const RenderOptions& opts) {
     const double load_seconds = seconds_since(t0);
     std::printf("Done! (%.4f sec)\n", load_seconds);
     for (const std::string& w : warnings) std::fprintf(stderr, "pathtracer: warning: %s\n", w.c_str());
+    if (!opts.env_map.empty()) {
+      Light env;
+      env.type = LightType::Environment;
+      env.environment = std::make_shared<const EnvironmentMap>(load_environment_map(opts.env_map));
+      scene.lights.push_back(env);
+    }
     configure_camera(scene.camera, opts);
 
     if (opts.part >= 2)

@@ -93,7 +93,7 @@ TEST_CASE("bad flag values fail with one clear line and write nothing", "[cli]")
   expect_clean_failure(dir, {"--part", "9", scene}, "--part");
   expect_clean_failure(dir, {"--bogus", scene}, "bogus");
   expect_clean_failure(dir, {}, "scene");
-  expect_clean_failure(dir, {"-e", "sky.exr", scene}, "-e");
+  expect_clean_failure(dir, {"-e", "sky.exr", scene}, "sky.exr");
 }
 
 TEST_CASE("every part renders from the command line", "[cli]") {

@@ -48,8 +48,8 @@
 #include "collada.h"
 #include "direct_lighting.h"
 #include "frame.h"
-#include "samplers.h"
 #include "render_job.h"
+#include "samplers.h"
 #include "statistics.h"
 #include "support.h"
 
@@ -378,16 +378,16 @@ TEST_CASE("a diffuse surface under the ambient light reflects rho L facing up an
   ambient.type = LightType::Ambient;
   ambient.radiance = Color(1.5f, 1.5f, 1.5f);
   scene.lights.push_back(ambient);
-  const BVH bvh(scene);
+  const BruteForceIntersector geometry(scene);  // part 1's intersector serves as well as the BVH
   const std::vector<ShadingPoint> pts = {
-      traced_point(bvh, Vec3(0.3f, 1.0f, 1.0f), Vec3(0.3f, 0, -0.2f), "plane facing up"),
+      traced_point(geometry, Vec3(0.3f, 1.0f, 1.0f), Vec3(0.3f, 0, -0.2f), "plane facing up"),
       // A card tilted 60 degrees from +Y above the plane: part of the sky
       // lies below its horizon.
       card_point(Vec3(0.0f, 0.7f, 0.0f), normalize(Vec3(std::sin(1.0472f), std::cos(1.0472f), 0.0f)), m,
                  "card tilted 60 degrees")};
   uint64_t seed = 41;
   for (bool hemisphere : {false, true}) {
-    ShadingContext ctx{scene, bvh};
+    ShadingContext ctx{scene, geometry};
     ctx.light_samples = 1;
     ctx.hemisphere = hemisphere;
     for (const ShadingPoint& sp : pts) {

@@ -1,0 +1,139 @@
+// Environment maps (-e): reading OpenEXR, the latitude-longitude lookup,
+// bad files, and the light they cast.
+//
+// One statistical test (z test, alpha = 0.01, fixed seed): a diffuse plane
+// under a uniform sky reflects albedo * L. It catches a wrong sphere pdf
+// (e.g. 1 / (2 pi)), a missing cosine, and samples below the plane kept.
+#include <ImfRgbaFile.h>
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "brute_force.h"
+#include "direct_lighting.h"
+#include "environment.h"
+#include "lights.h"
+#include "image_io.h"
+#include "support.h"
+
+using namespace pt;
+
+namespace {
+// Writes a w x h EXR whose texel (x, y) is f(x, y).
+template <typename F>
+void write_exr(const std::string& path, int w, int h, F f) {
+  std::vector<Imf::Rgba> px(size_t(w) * size_t(h));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Color c = f(x, y);
+      px[size_t(y * w + x)] = Imf::Rgba(c.x, c.y, c.z, 1.0f);
+    }
+  Imf::RgbaOutputFile file(path.c_str(), w, h, Imf::WRITE_RGBA);
+  file.setFrameBuffer(px.data(), 1, size_t(w));
+  file.writePixels(h);
+}
+}  // namespace
+
+TEST_CASE("environment map: texels are read and looked up by latitude and longitude", "[environment]") {
+  test::TempDir dir;
+  const std::string path = dir.file("sky.exr");
+  write_exr(path, 8, 4, [](int x, int y) { return Color(float(x), float(y), 0.5f); });
+  const EnvironmentMap env = load_environment_map(path);
+  REQUIRE(env.width == 8);
+  REQUIRE(env.height == 4);
+  CHECK(env.lookup({0, 1, 0}).y == 0.0f);   // straight up: the top row
+  CHECK(env.lookup({0, -1, 0}).y == 3.0f);  // straight down: the bottom row
+  const Color ahead = env.lookup({0, 0, -1});  // -Z: the centre column, the middle
+  CHECK(ahead.x == 4.0f);
+  CHECK(ahead.y == 2.0f);
+  CHECK(env.lookup({1, 0, 0}).x == 6.0f);   // +X: three quarters across
+  CHECK(env.lookup({-1, 0, 0}).x == 2.0f);  // -X: one quarter across
+  CHECK(env.lookup({0, 0, 1}).x == 7.0f);   // +Z: the right edge (phi = pi)
+  CHECK(env.lookup({0, 0, 1}).z == 0.5f);
+}
+
+TEST_CASE("environment map: missing, malformed and negative files fail naming the file", "[environment]") {
+  test::TempDir dir;
+  CHECK_THROWS_WITH(load_environment_map(dir.file("none.exr")), Catch::Contains("none.exr"));
+  test::write_text(dir.file("text.exr"), "not an exr file");
+  CHECK_THROWS_WITH(load_environment_map(dir.file("text.exr")), Catch::Contains("text.exr"));
+  write_exr(dir.file("neg.exr"), 2, 2, [](int, int) { return Color(-1.0f, 0.0f, 0.0f); });
+  CHECK_THROWS_WITH(load_environment_map(dir.file("neg.exr")), Catch::Contains("negative"));
+}
+
+TEST_CASE("a diffuse plane under a uniform environment reflects albedo times its radiance", "[environment]") {
+  test::TempDir dir;
+  write_exr(dir.file("white.exr"), 16, 8, [](int, int) { return Color(2.0f, 1.0f, 0.5f); });
+  Scene s;
+  Material m;
+  m.albedo = Color(0.5f);
+  s.materials.push_back(m);
+  Light env;
+  env.type = LightType::Environment;
+  env.environment = std::make_shared<const EnvironmentMap>(load_environment_map(dir.file("white.exr")));
+  s.lights.push_back(env);
+  BruteForceIntersector none(s);  // nothing to occlude
+  ShadingContext ctx{s, none};
+  ctx.light_samples = 1;
+  Hit hit;
+  hit.t = 1;
+  hit.n = Vec3(0, 1, 0);
+  hit.material = 0;
+  const Ray r({0, 1, 0}, {0, -1, 0});
+  for (bool hemisphere : {false, true}) {
+    ctx.hemisphere = hemisphere;
+    Rng rng(42);
+    const int n = 200000;
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < n; ++i) {
+      const double v = hemisphere ? estimate_direct_lighting_hemisphere(ctx, r, hit, rng).x
+                                  : estimate_direct_lighting_importance(ctx, r, hit, rng).x;
+      sum += v;
+      sum2 += v * v;
+    }
+    const double mean = sum / n, se = std::sqrt((sum2 / n - mean * mean) / (n - 1));
+    INFO((hemisphere ? "hemisphere" : "light sampling") << ": mean " << mean << " se " << se);
+    // Expected rho * L = 0.5 * 2 = 1; z critical 2.576 at alpha = 0.01.
+    CHECK(std::abs(mean - 1.0) <= 2.576 * se + 1e-9);
+  }
+}
+
+TEST_CASE("the command line renders with an environment map: the sky is seen and lights the scene",
+          "[environment][cli]") {
+  test::TempDir dir;
+  write_exr(dir.file("sky.exr"), 16, 8, [](int, int) { return Color(0.25f); });
+  // A lone triangle facing the camera (wound clockwise: see test_cli.cpp).
+  test::write_text(dir.file("tri.dae"), R"(<?xml version="1.0"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><up_axis>Y_UP</up_axis></asset>
+  <library_cameras><camera id="cam"><optics><technique_common><perspective>
+    <xfov>50</xfov><aspect_ratio>1.333333</aspect_ratio><znear>0.1</znear><zfar>100</zfar>
+  </perspective></technique_common></optics></camera></library_cameras>
+  <library_geometries><geometry id="tri"><mesh>
+    <source id="p"><float_array id="pa" count="9">-1 -1 0 0 1 0 1 -1 0</float_array>
+      <technique_common><accessor source="#pa" count="3" stride="3"/></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="Scene">
+    <node id="Camera"><matrix>1 0 0 0 0 1 0 0 0 0 1 5 0 0 0 1</matrix><instance_camera url="#cam"/></node>
+    <node id="Tri"><instance_geometry url="#tri"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#Scene"/></scene>
+</COLLADA>
+)");
+  const auto r = test::run_pathtracer({"--part", "4", "-m", "2", "-s", "16", "-r", "800", "600", "-e", "sky.exr",
+                                       "--pfm", "o.pfm", "-f", "o.png", "tri.dae"},
+                                      dir.path());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const ImageBuffer img = read_pfm(dir.file("o.pfm"));
+  CHECK(img.at(2, 597).x == Approx(0.25f));  // the corner sees the sky
+  // The triangle, lit by the sky over its front hemisphere, reflects
+  // albedo * L = 0.5 * 0.25. One pixel at 16 samples has a standard
+  // deviation of about 0.04, so average 400 pixels at the centre (standard
+  // error about 0.002) and allow 4 standard errors.
+  double sum = 0;
+  for (int y = 290; y < 310; ++y)
+    for (int x = 390; x < 410; ++x) sum += img.at(x, y).x;
+  CHECK(sum / 400 == Approx(0.125).margin(0.008));
+}

@@ -111,6 +111,7 @@ RaySets make_ray_sets(const Scene& scene, const Intersector& isect, uint64_t num
         d = normalize(-light.direction);
         tmax = 1e30f;
         break;
+      case LightType::Environment:
       case LightType::Ambient:
         d = cosine_direction(n, srng);
         break;

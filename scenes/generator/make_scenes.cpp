@@ -166,6 +166,21 @@ Light cornell_area_light() {
   return l;
 }
 
+// The area light, and a backing plate over the emissive quad. Emission is
+// seen from both sides (as in the course), while the area light shines only
+// down; without the plate the ceiling, 1 cm above the quad, would be lit by
+// the quad's back under hemisphere sampling (-H) but not under light
+// sampling. The plate (ceiling material, 0.1 mm above the quad, 1 cm wider
+// on every side, wound like the floor so that it faces up) hides the back,
+// and the two estimators agree. Scenes with only a point light (CBempty)
+// keep the course's box.
+void add_cornell_area_light(Scene& s) {
+  s.lights.push_back(cornell_area_light());
+  const double y = kLightHeight + 1e-4;
+  s.meshes.push_back(
+      quad("lightBacking", "ceiling", {-0.31, y, -0.41}, {0.31, y, -0.41}, {0.31, y, 0.41}, {-0.31, y, 0.41}, {0, -1, 0}));
+}
+
 // The course's two spheres, radius 0.3, resting on the floor: one right and
 // to the front, one left and to the back.
 const V3 kSphereFrontRight{0.4, 0.3, 0.3};
@@ -201,7 +216,7 @@ Scene cb_spheres_lambertian() {
   s.purpose = "Cornell box with the CGL area light and two diffuse spheres (albedo 0.8)";
   add_cornell_box(s);
   s.materials.push_back(diffuse("lambertian", {0.8, 0.8, 0.8}));
-  s.lights.push_back(cornell_area_light());
+  add_cornell_area_light(s);
   s.spheres.push_back({"SphereFrontRight", "lambertian", kSphereFrontRight, kSphereRadius});
   s.spheres.push_back({"SphereBackLeft", "lambertian", kSphereBackLeft, kSphereRadius});
   s.camera = course_camera(s, {0, 0, 1});
@@ -225,7 +240,7 @@ Scene cb_spheres() {
   mirror.reflectance = {1, 1, 1};
   s.materials.push_back(glass);
   s.materials.push_back(mirror);
-  s.lights.push_back(cornell_area_light());
+  add_cornell_area_light(s);
   s.spheres.push_back({"SphereFrontRight", "glass", kSphereFrontRight, kSphereRadius});
   s.spheres.push_back({"SphereBackLeft", "mirror", kSphereBackLeft, kSphereRadius});
   s.camera = course_camera(s, {0, 0, 1});
@@ -381,7 +396,7 @@ Scene cb_bunny(MeshLibrary& lib) {
   s.purpose = "Cornell box with the CGL area light and the Stanford bunny (28,576 triangles, diffuse 0.5)";
   add_cornell_box(s);
   s.materials.push_back(diffuse("bunny", {0.5, 0.5, 0.5}));
-  s.lights.push_back(cornell_area_light());
+  add_cornell_area_light(s);
   IndexedMesh m = lib.bunny();
   place_on_floor(m, 0, 1, 0.772, 0.002);
   s.meshes.push_back(scene_mesh("bunny", "bunny", m, true));
@@ -397,7 +412,7 @@ Scene cb_dragon(MeshLibrary& lib, size_t triangles, const std::string& file, con
   s.purpose = purpose;
   add_cornell_box(s);
   s.materials.push_back(diffuse("dragon", {0.5, 0.5, 0.5}));
-  s.lights.push_back(cornell_area_light());
+  add_cornell_area_light(s);
   IndexedMesh m = lib.dragon(triangles);
   place_on_floor(m, 0, 0, 1.4, 0.002);
   s.meshes.push_back(scene_mesh("dragon", "dragon", m, true));

@@ -13,22 +13,21 @@
 // The other checks are deterministic (numerical integrals with stated
 // tolerances, exact per-sample values).
 //
-// Deliberate bug -> test that catches it (each verified by hand once):
-//   uniform hemisphere drawn with z = sqrt(u1)     -> uniform hemisphere ... chi-square,
-//                                                     ambient light sampling ... chi-square
-//   uniform_hemisphere_pdf() returns 1/pi          -> sampler pdfs integrate to 1,
-//                                                     ambient light sampling ... (its pdf)
-//   cosine sampler with radius u1 (not sqrt(u1))   -> cosine hemisphere ... chi-square,
-//                                                     diffuse sample_f ... chi-square (both)
-//   diffuse f = albedo (not divided by pi)         -> diffuse sample_f returns ...
-//   Frame::from_normal with a wrong sign for n.z<0 -> the shading frame is orthonormal ...
-//   area light point drawn over +-dim (not +-dim/2)-> area light sampling ... chi-square,
-//                                                     area light pdf integrates to 1 ...
-//   area light pdf without the cosine at the light -> area light pdf integrates to 1 ...,
-//                                                     area light samples report ...
-//   area light two-sided (no check of its side)    -> area light samples report ...
-//   ambient light sampled about +Z instead of +Y   -> ambient light sampling ... chi-square
-//   point light radiance divided by d^2 as well    -> point and directional light samples ...
+// Deliberate bug (planted in a scratch copy) -> tests here that failed on it:
+//   uniform hemisphere drawn with z = sqrt(u1)     -> uniform hemisphere chi-square, ambient
+//                                                     chi-square
+//   uniform_hemisphere_pdf() returns 1/pi          -> pdfs integrate to 1, ambient (its pdf)
+//   cosine sampler with radius u1 (not sqrt(u1))   -> cosine hemisphere chi-square, both
+//                                                     sample_f chi-square tests
+//   diffuse f = albedo (not divided by pi)         -> sample_f returns f = albedo over pi
+//   Frame::from_normal with a wrong sign, n.z < 0  -> the shading frame is orthonormal
+//   area light point drawn over +-dim (not +-dim/2)-> area light chi-square, area light pdf
+//                                                     integrates to 1, area light samples report
+//   area light pdf without the cosine at the light -> area light pdf integrates to 1, area
+//                                                     light samples report
+//   area light two-sided (|cos| at the light)      -> area light samples report
+//   ambient light sampled about +Z instead of +Y   -> ambient chi-square
+//   point light radiance divided by d^2 as well    -> point and directional light samples
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <functional>
@@ -67,7 +66,8 @@ ChiSquareResult fit(const DirectionBins& bins, const Draw& draw, const Density& 
 
 void check_fit(const ChiSquareResult& r) {
   stats_log(r.describe());
-  INFO(r.describe() << "; each test at level " << kAlphaEach);
+  INFO(r.describe() << "; each test at level " << kAlphaEach << ", critical value "
+                    << chi2_upper_quantile(kAlphaEach, r.dof));
   CHECK(r.p_value >= kAlphaEach);
 }
 
@@ -140,6 +140,25 @@ double implementation_area_pdf(const Light& l, const Vec3& p, const Vec3& w) {
 }
 
 }  // namespace
+
+TEST_CASE("the statistics helpers reproduce tabulated quantiles and pool sparse cells", "[part3][sampling][stats]") {
+  // Upper quantiles from standard tables.
+  CHECK(normal_upper_quantile(0.005) == Approx(2.575829).epsilon(1e-6));
+  CHECK(chi2_upper_quantile(0.01, 10) == Approx(23.2093).epsilon(1e-5));
+  CHECK(chi2_upper_quantile(0.01, 100) == Approx(135.807).epsilon(1e-5));
+  CHECK(chi2_upper_quantile(0.05, 1) == Approx(3.841459).epsilon(1e-6));
+  CHECK(student_t_upper_quantile(0.005, 10) == Approx(3.169273).epsilon(1e-6));
+  CHECK(student_t_upper_quantile(0.025, 5) == Approx(2.570582).epsilon(1e-6));
+  CHECK(student_t_sf(-1.0, 7) == Approx(1.0 - student_t_sf(1.0, 7)).epsilon(1e-12));
+  CHECK(sidak(0.01, 10) == Approx(0.00100453).epsilon(1e-5));
+  // Two sparse cells (expected 2 and 3) pool into one of expected 5.
+  const ChiSquareResult r = chi_square_test({10, 1, 4, 25}, {10, 2, 3, 25});
+  CHECK(r.cells == 3);
+  CHECK(r.pooled_cells == 2);
+  CHECK(r.statistic == Approx(0.0).margin(1e-12));
+  // A sample where the density is zero fails the test outright.
+  CHECK(chi_square_test({10, 1, 20}, {11, 0, 20}).p_value == 0.0);
+}
 
 TEST_CASE("uniform hemisphere sampling fits the density 1 over 2 pi, chi-square", "[part3][sampling][chi2]") {
   const Draw draw = [](Rng& rng) {

@@ -12,6 +12,11 @@ namespace pt::test {
 // ctest reports as "Skipped" (each test case runs in its own process).
 std::string course_scene(const std::string& name);
 
+// A tiny valid scene (Y up): one triangle of the default material, wound
+// clockwise as seen from the camera on +Z so that its recomputed normal
+// (reversed, as for every lone polygon) faces the camera; no lights.
+extern const char* const kTinyTriangleScene;
+
 // Path of one of the project's own scene files (scenes/NAME).
 std::string project_scene(const std::string& name);
 

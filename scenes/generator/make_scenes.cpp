@@ -80,15 +80,7 @@ Material diffuse(const std::string& name, Rgb albedo) {
 
 // The axis-aligned bounds of all triangles and spheres (lights excluded),
 // exactly as the course's camera placement sees them.
-struct Bounds {
-  V3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  void add(V3 p) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  V3 center() const { return 0.5 * (lo + hi); }
-  V3 extent() const { return hi - lo; }
-};
+using Bounds = Box3;
 
 Bounds scene_bounds(const Scene& s) {
   Bounds b;

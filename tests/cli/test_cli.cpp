@@ -12,28 +12,7 @@ using test::run_pathtracer;
 
 namespace {
 
-// A tiny valid scene: one triangle facing the camera, Y up. It is wound
-// clockwise as seen from the camera: a lone triangle's recomputed normal is
-// the reverse of its winding (the course's rule), so it faces the camera.
-const char* kTinyScene = R"(<?xml version="1.0"?>
-<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
-  <asset><up_axis>Y_UP</up_axis></asset>
-  <library_cameras><camera id="cam"><optics><technique_common><perspective>
-    <xfov>50</xfov><aspect_ratio>1.333333</aspect_ratio><znear>0.1</znear><zfar>100</zfar>
-  </perspective></technique_common></optics></camera></library_cameras>
-  <library_geometries><geometry id="tri"><mesh>
-    <source id="tri-pos"><float_array id="tri-pos-array" count="9">-1 -1 0 0 1 0 1 -1 0</float_array>
-      <technique_common><accessor source="#tri-pos-array" count="3" stride="3"/></technique_common></source>
-    <vertices id="tri-v"><input semantic="POSITION" source="#tri-pos"/></vertices>
-    <triangles count="1"><input semantic="VERTEX" source="#tri-v" offset="0"/><p>0 1 2</p></triangles>
-  </mesh></geometry></library_geometries>
-  <library_visual_scenes><visual_scene id="Scene">
-    <node id="Camera"><matrix>1 0 0 0 0 1 0 0 0 0 1 5 0 0 0 1</matrix><instance_camera url="#cam"/></node>
-    <node id="Tri"><instance_geometry url="#tri"/></node>
-  </visual_scene></library_visual_scenes>
-  <scene><instance_visual_scene url="#Scene"/></scene>
-</COLLADA>
-)";
+const char* const kTinyScene = test::kTinyTriangleScene;
 
 int count_lines(const std::string& s) {
   int n = 0;

@@ -101,26 +101,7 @@ TEST_CASE("the command line renders with an environment map: the sky is seen and
           "[environment][cli]") {
   test::TempDir dir;
   write_exr(dir.file("sky.exr"), 16, 8, [](int, int) { return Color(0.25f); });
-  // A lone triangle facing the camera (wound clockwise: see test_cli.cpp).
-  test::write_text(dir.file("tri.dae"), R"(<?xml version="1.0"?>
-<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
-  <asset><up_axis>Y_UP</up_axis></asset>
-  <library_cameras><camera id="cam"><optics><technique_common><perspective>
-    <xfov>50</xfov><aspect_ratio>1.333333</aspect_ratio><znear>0.1</znear><zfar>100</zfar>
-  </perspective></technique_common></optics></camera></library_cameras>
-  <library_geometries><geometry id="tri"><mesh>
-    <source id="p"><float_array id="pa" count="9">-1 -1 0 0 1 0 1 -1 0</float_array>
-      <technique_common><accessor source="#pa" count="3" stride="3"/></technique_common></source>
-    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
-    <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
-  </mesh></geometry></library_geometries>
-  <library_visual_scenes><visual_scene id="Scene">
-    <node id="Camera"><matrix>1 0 0 0 0 1 0 0 0 0 1 5 0 0 0 1</matrix><instance_camera url="#cam"/></node>
-    <node id="Tri"><instance_geometry url="#tri"/></node>
-  </visual_scene></library_visual_scenes>
-  <scene><instance_visual_scene url="#Scene"/></scene>
-</COLLADA>
-)");
+  test::write_text(dir.file("tri.dae"), test::kTinyTriangleScene);
   const auto r = test::run_pathtracer({"--part", "4", "-m", "2", "-s", "16", "-r", "800", "600", "-e", "sky.exr",
                                        "--pfm", "o.pfm", "-f", "o.png", "tri.dae"},
                                       dir.path());

@@ -6,6 +6,8 @@ scripts/setup.sh
 scripts/build.sh
 mkdir -p out
 threads=$(nproc 2>/dev/null || echo 2)
-build/bin/pathtracer -t "$threads" -s 16 -r 480 360 -f out/CBspheres_lambertian.png scenes/CBspheres_lambertian.dae
+# The course's standard command: global illumination, adaptive sampling.
+build/bin/pathtracer -t "$threads" -s 64 -l 4 -m 5 -r 480 360 -f out/CBspheres_lambertian.png \
+  scenes/CBspheres_lambertian.dae
 echo
 echo "Rendered: $(pwd)/out/CBspheres_lambertian.png (sample rates: out/CBspheres_lambertian_rate.png)"

@@ -12,10 +12,10 @@
 //   48  Welch t tests: -H against light sampling on 8x8 blocks of a 64x48
 //       render of a Cornell box built in code whose emissive quad is its
 //       area light (16 seeds per estimator, 16 spp, -l 8);
-//   48  Welch t tests: the same on CBspheres_lambertian.dae (skipped while
-//       the scene's emissive quad does not stand for its area light: it
-//       must cover exactly the light's rectangle, and no surface may see its
-//       back, which -H counts and the one-sided light does not).
+//   48  Welch t tests: the same on CBspheres_lambertian.dae, whose emissive
+//       quad covers exactly the light's rectangle and whose backing plate
+//       hides the quad's back (which -H would count and the one-sided light
+//       does not).
 // Delta lights are checked exactly (zero variance); the remaining checks
 // are deterministic.
 //

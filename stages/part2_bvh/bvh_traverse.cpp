@@ -54,7 +54,6 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
   // STUB:   if (intersect_sphere(scene_.spheres[i], r, hit)) { found = true; if (hit) hit->primitive = int(num_triangles_ + i); }
   // STUB: }
   // STUB: return found;
-  const Vec3 inv_d(1.0f / r.d.x, 1.0f / r.d.y, 1.0f / r.d.z);
   const PairRay pray(r);
   uint64_t tests = 0, visits = 0;
   int best = -1;  // leaf-order index of the nearest primitive so far
@@ -68,7 +67,7 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
   Entry stack[kStackSize];
   int sp = 0;
   float t_root;
-  if (slab_test(nodes_[0].lo, nodes_[0].hi, r.o, inv_d, r.min_t, r.max_t, &t_root)) stack[sp++] = {0, t_root};
+  if (slab_test(nodes_[0].lo, nodes_[0].hi, r.o, pray.inv, r.min_t, r.max_t, &t_root)) stack[sp++] = {0, t_root};
 
   while (sp > 0) {
     const Entry e = stack[--sp];
@@ -147,14 +146,13 @@ bool BVH::occluded(const Ray& ray) const {
   // STUB: for (const Triangle& t : scene_.triangles) { ++stats.primitive_tests; if (intersect_triangle(t, r, nullptr)) return true; }
   // STUB: for (const Sphere& s : scene_.spheres) { ++stats.primitive_tests; if (intersect_sphere(s, r, nullptr)) return true; }
   // STUB: return false;
-  const Vec3 inv_d(1.0f / r.d.x, 1.0f / r.d.y, 1.0f / r.d.z);
   const PairRay pray(r);
   uint64_t tests = 0, visits = 0;
   bool found = false;
   uint32_t stack[kStackSize];
   int sp = 0;
   float t_enter;
-  if (slab_test(nodes_[0].lo, nodes_[0].hi, r.o, inv_d, r.min_t, r.max_t, &t_enter)) stack[sp++] = 0;
+  if (slab_test(nodes_[0].lo, nodes_[0].hi, r.o, pray.inv, r.min_t, r.max_t, &t_enter)) stack[sp++] = 0;
   while (sp > 0 && !found) {
     const BVHNode& n = nodes_[stack[--sp]];
     ++visits;

@@ -15,8 +15,10 @@
 
 namespace pt {
 
-// A ray prepared for the pair test.
+// A ray prepared for the pair test; `inv` is its reciprocal direction, also
+// used for single boxes (the root) with slab_test.
 struct PairRay {
+  Vec3 inv;
 #if defined(__SSE2__)
   __m128 o, inv_d;
 #else
@@ -27,7 +29,7 @@ struct PairRay {
     // Embree does, so the reciprocals are finite and 0 * inf never makes a
     // NaN; a ray so close to parallel to a slab behaves as parallel.
     const auto safe_inv = [](float d) { return 1.0f / (std::fabs(d) < 1e-18f ? std::copysign(1e-18f, d) : d); };
-    const Vec3 inv(safe_inv(r.d.x), safe_inv(r.d.y), safe_inv(r.d.z));
+    inv = Vec3(safe_inv(r.d.x), safe_inv(r.d.y), safe_inv(r.d.z));
 #if defined(__SSE2__)
     // Lane 3 holds the node's first/count integers; it is masked out below.
     o = _mm_setr_ps(r.o.x, r.o.y, r.o.z, 0.0f);

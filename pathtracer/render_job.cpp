@@ -147,10 +147,11 @@ std::string json_string(const std::string& s) {
 std::string stats_json(const Scene& scene, const RenderOptions& opts, const RenderResult& r, double load_seconds) {
   const double rays = double(r.stats.rays());
   const auto per_ray = [&](uint64_t n) { return rays > 0 ? double(n) / rays : 0.0; };
+  // Every field but the scene path has a bounded length; the path, which
+  // has none, is added outside the fixed-size buffer.
   char buf[2048];
   std::snprintf(buf, sizeof buf,
-                "{\n"
-                "  \"scene\": %s,\n  \"part\": %d,\n  \"width\": %d,\n  \"height\": %d,\n"
+                "  \"part\": %d,\n  \"width\": %d,\n  \"height\": %d,\n"
                 "  \"samples_per_pixel\": %d,\n  \"light_samples\": %d,\n  \"max_depth\": %d,\n"
                 "  \"threads\": %d,\n  \"seed\": %llu,\n  \"primitives\": %zu,\n"
                 "  \"triangles\": %zu,\n  \"spheres\": %zu,\n  \"lights\": %zu,\n"
@@ -160,7 +161,7 @@ std::string stats_json(const Scene& scene, const RenderOptions& opts, const Rend
                 "  \"shadow_queries\": %llu,\n  \"primitive_tests\": %llu,\n  \"node_visits\": %llu,\n"
                 "  \"mrays_per_second\": %.4f,\n  \"tests_per_ray\": %.4f,\n  \"nodes_per_ray\": %.4f\n"
                 "}\n",
-                json_string(opts.scene_path).c_str(), opts.part, opts.width, opts.height, opts.samples_per_pixel,
+                opts.part, opts.width, opts.height, opts.samples_per_pixel,
                 opts.light_samples, opts.max_depth, opts.threads, (unsigned long long)opts.seed,
                 scene.num_primitives(), scene.triangles.size(), scene.spheres.size(), scene.lights.size(),
                 load_seconds, r.used_bvh ? r.bvh.build_seconds : 0.0, r.used_bvh ? r.bvh.nodes : size_t(0),
@@ -170,7 +171,7 @@ std::string stats_json(const Scene& scene, const RenderOptions& opts, const Rend
                 (unsigned long long)r.stats.primitive_tests, (unsigned long long)r.stats.node_visits,
                 r.seconds > 0 ? rays / r.seconds * 1e-6 : 0.0, per_ray(r.stats.primitive_tests),
                 per_ray(r.stats.node_visits));
-  return buf;
+  return "{\n  \"scene\": " + json_string(opts.scene_path) + ",\n" + buf;
 }
 
 int run_render_job(const RenderOptions& opts) {

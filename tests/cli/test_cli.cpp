@@ -102,7 +102,7 @@ TEST_CASE("a render writes the PNG, the rate PNG and the PFM, and prints the cou
   test::TempDir dir;
   test::write_text(dir.file("tiny.dae"), kTinyScene);
   const auto r = run_pathtracer({"--part", "2", "-t", "2", "-s", "2", "-r", "32", "24", "-f", "out.png", "--pfm",
-                                 "out.pfm", dir.file("tiny.dae")},
+                                 "out.pfm", "--stats-json", "out.json", dir.file("tiny.dae")},
                                 dir.path());
   INFO(r.out << r.err);
   REQUIRE(r.exit_code == 0);
@@ -121,6 +121,15 @@ TEST_CASE("a render writes the PNG, the rate PNG and the PFM, and prints the cou
   CHECK(rate.width == 32);
   CHECK(rate.height == 24);
   CHECK((rate.rgb[0] == 255 && rate.rgb[1] == 0 && rate.rgb[2] == 0));  // every pixel took all samples
+  // The machine-readable figures carry the same exact counts.
+  const std::string json = read_bytes(dir.file("out.json"));
+  CHECK(json.rfind("{\n  \"scene\": \"", 0) == 0);
+  CHECK(json.find("\"part\": 2,") != std::string::npos);
+  CHECK(json.find("\"rays\": 1536,") != std::string::npos);
+  CHECK(json.find("\"closest_queries\": 1536,") != std::string::npos);
+  CHECK(json.find("\"bvh_nodes\": 1,") != std::string::npos);
+  CHECK(json.size() > 2);
+  CHECK(json.substr(json.size() - 2) == "}\n");
   const ImageBuffer pfm = read_pfm(dir.file("out.pfm"));
   CHECK(pfm.width == 32);
   // The centre pixel sees the triangle head on: normal (0,0,1) -> (0.5,0.5,1).

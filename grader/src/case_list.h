@@ -1,0 +1,42 @@
+// The grading cases, read from a data file (grader/cases.txt).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace grader {
+
+// What a case checks besides (always) the image.
+enum class CaseKind {
+  Image,        // the image against the reference (z test)
+  Rate,         // image and sample-rate image (adaptive sampling)
+  BvhCost,      // image, and intersection tests per ray against the reference's
+  ShadowCost,   // image, and shadow rays per camera ray against the reference's
+  Speedup,      // render with --part 1 and --part 2: the BVH's speed-up
+};
+
+struct Case {
+  std::string name;
+  int part = 1;
+  CaseKind kind = CaseKind::Image;
+  double points = 1.0;
+  double timeout_seconds = 60.0;
+  std::string scene;                // relative to the scenes folder
+  std::vector<std::string> options; // pathtracer options (no output flags)
+  int line = 0;                     // in the case file, for messages
+};
+
+const char* kind_name(CaseKind kind);
+
+// Reads the case file. Throws std::runtime_error("<path>:<line>: <what>")
+// on any malformed line, unknown kind or duplicate name.
+std::vector<Case> read_cases(const std::string& path);
+
+// A stable digest of what a case renders (scene, part, options): a reference
+// made for one definition is never used for another.
+std::string case_digest(const Case& c);
+
+// "--part 3 -s 8 -l 4 CBbunny.dae": the case's command, without binary or
+// output flags, for reports.
+std::string case_command(const Case& c);
+
+}  // namespace grader

@@ -1,0 +1,299 @@
+#include "grade.h"
+
+#include <lodepng.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "image_io.h"
+
+namespace grader {
+
+namespace fs = std::filesystem;
+
+const char* verdict_name(Verdict v) {
+  switch (v) {
+    case Verdict::Passed: return "passed";
+    case Verdict::Failed: return "failed";
+    case Verdict::Error: return "error";
+  }
+  return "?";
+}
+
+namespace {
+
+// Partial credit for an image that fails the test: half the points when
+// its relMSE is at the noise level, falling linearly to none at 0.05 above
+// it. Structural failures (crash, missing or NaN output) score nothing.
+double partial_credit(const ImageScore& s, double points) {
+  const double excess = std::max(0.0, s.relmse - s.relmse_expected);
+  return 0.5 * points * std::clamp(1.0 - excess / 0.05, 0.0, 1.0);
+}
+
+void save_png(const std::string& path, const std::vector<unsigned char>& rgb, int w, int h) {
+  std::vector<unsigned char> png;
+  if (lodepng::encode(png, rgb, unsigned(w), unsigned(h), LCT_RGB, 8) == 0)
+    pt::write_file_atomically(path, std::vector<uint8_t>(png.begin(), png.end()));
+}
+
+// The course's 8-bit look of a radiance image (row 0 at the top).
+std::vector<unsigned char> radiance_bytes(const Image& img) {
+  std::vector<unsigned char> rgb(size_t(img.width) * img.height * 3);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        rgb[(size_t(y) * img.width + x) * 3 + c] = pt::radiance_to_byte(img.at(x, y, img.channels == 3 ? c : 0));
+  return rgb;
+}
+
+// |z| per pixel: black (0) through blue to white (the threshold); above the
+// threshold red, so failing pixels stand out.
+std::vector<unsigned char> error_map_bytes(const std::vector<float>& z, int w, int h, double threshold) {
+  std::vector<unsigned char> rgb(size_t(w) * h * 3);
+  for (size_t i = 0; i < z.size(); ++i) {
+    unsigned char* p = &rgb[i * 3];
+    const double t = threshold > 0 ? z[i] / threshold : 0;
+    if (t > 1) {
+      p[0] = 255, p[1] = 40, p[2] = 40;
+    } else {
+      const double u = std::sqrt(std::max(0.0, t));
+      p[0] = (unsigned char)(255 * u * u);
+      p[1] = (unsigned char)(255 * u * u);
+      p[2] = (unsigned char)(255 * u);
+    }
+  }
+  return rgb;
+}
+
+std::string fmt(const char* f, double a) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, f, a);
+  return buf;
+}
+
+std::string join_command(const Case& c, int part, uint64_t seed) {
+  std::string s = "pathtracer --part " + std::to_string(part);
+  for (const std::string& o : c.options) s += " " + o;
+  return s + " --seed " + std::to_string(seed) + " " + c.scene;
+}
+
+}  // namespace
+
+CaseResult grade_case(const RunSettings& run, const std::string& reference_root, const Case& c, uint64_t seed,
+                      const std::string& case_dir, const CostBounds& bounds) {
+  CaseResult r;
+  r.c = c;
+  r.max_score = c.points;
+  r.dir = case_dir;
+  r.command = join_command(c, c.part, seed);
+  const auto fail = [&](const std::string& why) {
+    r.verdict = Verdict::Failed;
+    r.score = 0;
+    r.message = why;
+    return r;
+  };
+
+  Reference ref;
+  std::string why;
+  if (!load_reference(reference_root, c, &ref, &why)) {
+    r.verdict = Verdict::Error;
+    r.message = why;
+    return r;
+  }
+  r.reference_seconds = ref.meta.num("render_seconds_median", -1);
+  r.reference_tests_per_ray = ref.meta.num("tests_per_ray", -1);
+
+  const bool want_rate = c.kind == CaseKind::Rate;
+  RenderOutput out = render_case(run, c, c.part, seed, case_dir + "/render", want_rate);
+  r.seconds = out.seconds;
+  r.log = out.log;
+  if (!out.ok) return fail(out.failure);
+  if (out.has_stats) {
+    r.render_seconds = out.stats.num("render_seconds", -1);
+    const double rays = out.stats.num("rays", 0);
+    if (rays > 0) r.tests_per_ray = out.stats.num("primitive_tests", 0) / rays;
+    r.mrays_per_second = out.stats.num("mrays_per_second", -1);
+    r.triangles = out.stats.num("triangles", -1);
+    if (r.render_seconds > 0 && r.reference_seconds > 0) r.speed_ratio = r.render_seconds / r.reference_seconds;
+  }
+
+  // The image, against the reference.
+  if (out.radiance.width != ref.mean.width || out.radiance.height != ref.mean.height)
+    return fail("the reference is " + std::to_string(ref.mean.width) + " x " + std::to_string(ref.mean.height) +
+                ": remake it");
+  ScoreOptions so;
+  so.block_test = !ref.deterministic;
+  // Mitsuba's floor, 1e-4, is on the variance of one sample; ours is on
+  // the variance of a whole render, so it is divided by the samples.
+  so.variance_floor = 1e-4 / std::max(1, case_int_option(c, "-s", 1));
+  const ImageScore img = score_image(out.radiance, ref.mean, ref.variance, ref.runs, so);
+  r.relmse = img.relmse;
+  r.metric = img.summary();
+  try {
+    save_png(case_dir + "/candidate.png", radiance_bytes(out.radiance), out.radiance.width, out.radiance.height);
+    save_png(case_dir + "/reference.png", radiance_bytes(ref.mean), ref.mean.width, ref.mean.height);
+    save_png(case_dir + "/error.png", error_map_bytes(img.pixel_z, out.radiance.width, out.radiance.height,
+                                                      img.pixel_threshold),
+             out.radiance.width, out.radiance.height);
+  } catch (const std::exception&) {
+    // Pictures for people only; the verdict does not depend on them.
+  }
+
+  std::vector<std::string> problems;
+  if (!img.passed) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "image differs from the reference: %d of %d pixel channels beyond |z| = %.2f, %d of %d blocks "
+                  "beyond |z| = %.2f; mean radiance %.4g vs %.4g",
+                  img.channels_failed, img.channels_tested, img.pixel_threshold, img.blocks_failed, img.blocks_tested,
+                  img.block_threshold, img.mean_candidate, img.mean_reference);
+    problems.push_back(buf);
+  }
+  double credit = img.passed ? c.points : partial_credit(img, c.points);
+
+  if (c.kind == CaseKind::Rate) {
+    ScoreOptions ro;
+    ro.variance_floor = 1e-3;  // rates move in steps of one batch
+    const ImageScore rate = score_image(out.rate, ref.rate_mean, ref.rate_variance, ref.runs, ro);
+    r.metric += "; rate: " + rate.summary();
+    if (!rate.passed) {
+      char buf[320];
+      std::snprintf(buf, sizeof buf,
+                    "sample-rate image differs: %d of %d pixels beyond |z| = %.2f, %d of %d blocks off; mean rate "
+                    "%.3f vs %.3f",
+                    rate.channels_failed, rate.channels_tested, rate.pixel_threshold, rate.blocks_failed,
+                    rate.blocks_tested, rate.mean_candidate, rate.mean_reference);
+      problems.push_back(buf);
+      credit = std::min(credit, partial_credit(rate, c.points));
+    }
+  }
+
+  if (c.kind == CaseKind::BvhCost) {
+    if (!out.has_stats || r.tests_per_ray < 0) {
+      problems.push_back("no intersection-test counts (--stats-json stats.json)");
+      credit = 0;
+    } else if (r.tests_per_ray > bounds.tests_per_ray_factor * r.reference_tests_per_ray) {
+      problems.push_back(fmt("%.1f intersection tests per ray, ", r.tests_per_ray) +
+                         fmt("more than %.0fx the reference's ", bounds.tests_per_ray_factor) +
+                         fmt("%.1f: the BVH does not cull", r.reference_tests_per_ray));
+      credit = 0;
+    }
+    r.metric += fmt("; %.1f tests/ray", r.tests_per_ray) + fmt(" (ref %.1f)", r.reference_tests_per_ray);
+  }
+
+  if (c.kind == CaseKind::ShadowCost) {
+    const double ref_ratio = ref.meta.num("shadow_per_query", -1);
+    if (!out.has_stats || out.stats.num("closest_queries", 0) <= 0) {
+      problems.push_back("no ray counts (--stats-json stats.json)");
+      credit = 0;
+    } else {
+      const double ratio = out.stats.num("shadow_queries", 0) / out.stats.num("closest_queries", 1);
+      r.metric += fmt("; %.2f shadow rays per hit query", ratio) + fmt(" (ref %.2f)", ref_ratio);
+      if (ratio > bounds.shadow_factor * ref_ratio) {
+        problems.push_back(fmt("%.2f shadow rays per closest-hit query, ", ratio) +
+                           fmt("the reference needs %.2f: a delta light needs one sample, not -l", ref_ratio));
+        credit = 0;
+      }
+    }
+  }
+
+  if (c.kind == CaseKind::Speedup) {
+    RenderOutput p1 = render_case(run, c, 1, seed, case_dir + "/part1", false);
+    r.part1_seconds = p1.ok && p1.has_stats ? p1.stats.num("render_seconds", -1) : -1;
+    r.seconds += p1.seconds;
+    if (!p1.ok) {
+      problems.push_back("the --part 1 (no BVH) render failed: " + p1.failure);
+      credit = 0;
+    } else if (r.part1_seconds <= 0 || r.render_seconds <= 0) {
+      problems.push_back("no render times (--stats-json stats.json)");
+      credit = 0;
+    } else {
+      r.speedup = r.part1_seconds / r.render_seconds;
+      r.metric += fmt("; BVH speed-up %.0fx", r.speedup);
+      if (r.speedup < bounds.min_speedup) {
+        problems.push_back(fmt("the BVH is only %.1fx faster than testing every primitive ", r.speedup) +
+                           fmt("(at least %.0fx expected)", bounds.min_speedup));
+        credit = 0;
+      }
+    }
+  }
+
+  if (problems.empty()) {
+    r.verdict = Verdict::Passed;
+    r.score = c.points;
+    r.message = "matches the reference";
+    return r;
+  }
+  r.verdict = Verdict::Failed;
+  r.score = credit;
+  r.message = problems[0];
+  for (size_t i = 1; i < problems.size(); ++i) r.message += "; " + problems[i];
+  return r;
+}
+
+std::string case_result_json(const CaseResult& r) {
+  std::string s = "{\n";
+  const auto field = [&](const char* k, const std::string& v, bool last = false) {
+    s += std::string("  \"") + k + "\": " + v + (last ? "\n" : ",\n");
+  };
+  field("name", json_quote(r.c.name));
+  field("part", std::to_string(r.c.part));
+  field("kind", json_quote(kind_name(r.c.kind)));
+  field("verdict", json_quote(verdict_name(r.verdict)));
+  field("score", json_number(r.score));
+  field("max_score", json_number(r.max_score));
+  field("message", json_quote(r.message));
+  field("metric", json_quote(r.metric));
+  field("relmse", json_number(r.relmse));
+  field("seconds", json_number(r.seconds));
+  field("render_seconds", json_number(r.render_seconds));
+  field("reference_seconds", json_number(r.reference_seconds));
+  field("speed_ratio", json_number(r.speed_ratio));
+  field("tests_per_ray", json_number(r.tests_per_ray));
+  field("reference_tests_per_ray", json_number(r.reference_tests_per_ray));
+  field("mrays_per_second", json_number(r.mrays_per_second));
+  field("triangles", json_number(r.triangles));
+  field("part1_seconds", json_number(r.part1_seconds));
+  field("speedup", json_number(r.speedup));
+  field("command", json_quote(r.command));
+  field("scene", json_quote(r.c.scene));
+  field("dir", json_quote(fs::absolute(r.dir).string()));
+  field("log", json_quote(r.log), true);
+  return s + "}\n";
+}
+
+bool case_result_from_json(const Json& j, CaseResult* r) {
+  if (j.type != Json::Type::Object || j.str("name").empty()) return false;
+  r->c.name = j.str("name");
+  r->c.part = int(j.num("part", 0));
+  const std::string kind = j.str("kind");
+  for (CaseKind k : {CaseKind::Image, CaseKind::Rate, CaseKind::BvhCost, CaseKind::ShadowCost, CaseKind::Speedup})
+    if (kind == kind_name(k)) r->c.kind = k;
+  r->c.scene = j.str("scene");
+  const std::string v = j.str("verdict");
+  r->verdict = v == "passed" ? Verdict::Passed : v == "failed" ? Verdict::Failed : Verdict::Error;
+  r->score = j.num("score", 0);
+  r->max_score = j.num("max_score", 0);
+  r->c.points = r->max_score;
+  r->message = j.str("message");
+  r->metric = j.str("metric");
+  r->relmse = j.num("relmse", -1);
+  r->seconds = j.num("seconds", 0);
+  r->render_seconds = j.num("render_seconds", -1);
+  r->reference_seconds = j.num("reference_seconds", -1);
+  r->speed_ratio = j.num("speed_ratio", -1);
+  r->tests_per_ray = j.num("tests_per_ray", -1);
+  r->reference_tests_per_ray = j.num("reference_tests_per_ray", -1);
+  r->mrays_per_second = j.num("mrays_per_second", -1);
+  r->triangles = j.num("triangles", -1);
+  r->part1_seconds = j.num("part1_seconds", -1);
+  r->speedup = j.num("speedup", -1);
+  r->command = j.str("command");
+  r->dir = j.str("dir");
+  r->log = j.str("log");
+  return true;
+}
+
+}  // namespace grader

@@ -1,0 +1,55 @@
+// Grading one case: render it with the binary under test, check the
+// outputs, score the image (and rate image, and costs) against the
+// reference, and turn that into points and a one-line verdict.
+#pragma once
+#include <string>
+
+#include "case_list.h"
+#include "json.h"
+#include "reference.h"
+#include "run_case.h"
+
+namespace grader {
+
+// How a case ended. Failed: the submission is wrong. Error: the grader
+// could not judge it (no reference for the case).
+enum class Verdict { Passed, Failed, Error };
+const char* verdict_name(Verdict v);
+
+// Bounds of the cost checks, relative to the reference's recorded figures.
+struct CostBounds {
+  double tests_per_ray_factor = 8.0;   // bvh-cost: tests per ray <= 8x the reference's
+  double shadow_factor = 1.5;          // shadow-cost: shadow rays per query <= 1.5x
+  double min_speedup = 10.0;           // speedup: part 1 time / part 2 time
+};
+
+struct CaseResult {
+  Case c;
+  Verdict verdict = Verdict::Error;
+  double score = 0, max_score = 0;
+  std::string message;       // one line: why it passed or failed
+  std::string metric;        // the statistics, short
+  double relmse = -1;        // -1: not scored
+  double seconds = 0;        // wall-clock of the candidate's render(s)
+  double render_seconds = -1;   // the renderer's own figure, when reported
+  double reference_seconds = -1;
+  double speed_ratio = -1;   // candidate render time / reference's (>1 = slower)
+  double tests_per_ray = -1, reference_tests_per_ray = -1;
+  double mrays_per_second = -1;
+  double triangles = -1;
+  double part1_seconds = -1, speedup = -1;  // speedup cases
+  std::string command;       // what was run
+  std::string log;           // the candidate's output, sanitised excerpt
+  std::string dir;           // where its files are (images for the HTML report)
+};
+
+// Writes candidate.png, reference.png and error.png into the case folder
+// for the HTML report (when there is an image).
+CaseResult grade_case(const RunSettings& run, const std::string& reference_root, const Case& c,
+                      uint64_t seed, const std::string& case_dir, const CostBounds& bounds);
+
+// Per-case results survive as JSON so that shards can be merged.
+std::string case_result_json(const CaseResult& r);
+bool case_result_from_json(const Json& j, CaseResult* r);
+
+}  // namespace grader

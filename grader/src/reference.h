@@ -1,0 +1,44 @@
+// A case's reference: B independent renders of the reference build at the
+// case's own settings, reduced to per-pixel mean and variance, plus the
+// costs recorded while making it. Stored in reference_images/<case>/:
+//   mean.pfm, variance.pfm            radiance (variance of ONE render)
+//   rate_mean.pfm, rate_variance.pfm  sample rates (adaptive cases)
+//   meta.json                         command, runs, seeds, commit, times,
+//                                     costs; written last (= complete)
+#pragma once
+#include <string>
+
+#include "case_list.h"
+#include "json.h"
+#include "run_case.h"
+#include "scoring.h"
+
+namespace grader {
+
+struct Reference {
+  Image mean, variance;
+  Image rate_mean, rate_variance;  // adaptive cases
+  int runs = 0;
+  bool deterministic = false;      // every run gave the same image
+  Json meta;
+};
+
+// Loads the reference of `c` from `root`. Returns false with `why` when it
+// is missing, incomplete or made for a different definition of the case.
+bool load_reference(const std::string& root, const Case& c, Reference* ref, std::string* why);
+
+struct MakeSettings {
+  RunSettings run;      // the reference build
+  int runs = 64;        // renders per case (2 when the image is deterministic)
+  int jobs = 1;         // renders at a time
+  uint64_t first_seed = 1000000;
+  bool force = false;   // remake even when a matching reference exists
+  std::string commit;   // recorded in the metadata
+  std::string work_dir; // scratch space
+};
+
+// Makes (or, unless forced, keeps) the reference of `c` in `root`/<name>.
+// Returns false with a one-line reason when a reference render fails.
+bool make_reference(const std::string& root, const Case& c, const MakeSettings& s, std::string* message);
+
+}  // namespace grader

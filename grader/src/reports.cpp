@@ -1,0 +1,218 @@
+#include "reports.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "image_io.h"
+#include "json.h"
+
+namespace grader {
+
+namespace {
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+// "-" for figures that were not measured.
+std::string opt(const char* f, double v) { return v < 0 ? "-" : fmt(f, v); }
+
+std::string pad(const std::string& s, size_t width, bool right = false) {
+  // Width counts characters, not bytes (messages hold a few UTF-8 symbols).
+  size_t chars = 0;
+  for (unsigned char ch : s)
+    if ((ch & 0xC0) != 0x80) ++chars;
+  if (chars >= width) return s;
+  const std::string fill(width - chars, ' ');
+  return right ? fill + s : s + fill;
+}
+
+double total(const std::vector<CaseResult>& rs, bool max) {
+  double t = 0;
+  for (const auto& r : rs) t += max ? r.max_score : r.score;
+  return t;
+}
+
+std::string base64_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const unsigned n = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 | (unsigned char)bytes[i + 2];
+    out += table[n >> 18 & 63], out += table[n >> 12 & 63], out += table[n >> 6 & 63], out += table[n & 63];
+  }
+  if (i + 1 == bytes.size()) {
+    const unsigned n = (unsigned char)bytes[i] << 16;
+    out += table[n >> 18 & 63], out += table[n >> 12 & 63], out += "==";
+  } else if (i + 2 == bytes.size()) {
+    const unsigned n = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8;
+    out += table[n >> 18 & 63], out += table[n >> 12 & 63], out += table[n >> 6 & 63], out += '=';
+  }
+  return out;
+}
+
+std::string html_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  pt::write_file_atomically(path, std::vector<uint8_t>(text.begin(), text.end()));
+}
+
+}  // namespace
+
+std::string terminal_table(const std::vector<CaseResult>& rs) {
+  std::ostringstream s;
+  s << pad("part", 5) << pad("case", 24) << pad("verdict", 8) << pad("score", 11, true) << pad("relMSE", 10, true)
+    << pad("time", 8, true) << pad("speed", 8, true) << "  detail\n";
+  for (const auto& r : rs) {
+    const std::string score = fmt("%.2f", r.score) + "/" + fmt("%g", r.max_score);
+    const std::string detail = r.verdict == Verdict::Passed ? r.metric : r.message;
+    s << pad(std::to_string(r.c.part), 5) << pad(r.c.name, 24) << pad(verdict_name(r.verdict), 8)
+      << pad(score, 11, true) << pad(opt("%.4f", r.relmse), 10, true) << pad(fmt("%.1fs", r.seconds), 8, true)
+      << pad(r.speed_ratio < 0 ? "-" : fmt("%.2fx", r.speed_ratio), 8, true) << "  " << detail << "\n";
+  }
+  int passed = 0;
+  for (const auto& r : rs) passed += r.verdict == Verdict::Passed;
+  const double t = total(rs, false), m = total(rs, true);
+  s << "\n"
+    << passed << "/" << rs.size() << " cases passed; score " << fmt("%.2f", t) << " / " << fmt("%g", m) << " ("
+    << fmt("%.1f", m > 0 ? 100 * t / m : 0) << "%)\n";
+  s << "speed = the render's time / the reference's recorded time (1.00x = as fast; machines differ)\n";
+  return s.str();
+}
+
+std::string timing_tables(const std::vector<CaseResult>& rs) {
+  std::ostringstream s;
+  s << "# Timing\n\n";
+  bool any_speedup = false;
+  for (const auto& r : rs) any_speedup |= r.c.kind == CaseKind::Speedup || r.c.kind == CaseKind::BvhCost;
+  if (any_speedup) {
+    s << "## Part 2: rendering with and without the BVH\n\n"
+      << "| scene | triangles | without BVH (s) | with BVH (s) | speed-up | Mrays/s | tests per ray |\n"
+      << "|---|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& r : rs) {
+      if (r.c.kind != CaseKind::Speedup && r.c.kind != CaseKind::BvhCost) continue;
+      s << "| " << r.c.scene << " | " << opt("%.0f", r.triangles) << " | " << opt("%.3f", r.part1_seconds) << " | "
+        << opt("%.3f", r.render_seconds) << " | " << (r.speedup < 0 ? "-" : fmt("%.0f×", r.speedup)) << " | "
+        << opt("%.2f", r.mrays_per_second) << " | " << opt("%.1f", r.tests_per_ray) << " |\n";
+    }
+    s << "\n";
+  }
+  s << "## Every case\n\n"
+    << "| part | case | scene | render (s) | reference (s) | speed ratio | Mrays/s | tests per ray | wall (s) |\n"
+    << "|---:|---|---|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& r : rs)
+    s << "| " << r.c.part << " | " << r.c.name << " | " << r.c.scene << " | " << opt("%.3f", r.render_seconds)
+      << " | " << opt("%.3f", r.reference_seconds) << " | " << (r.speed_ratio < 0 ? "-" : fmt("%.2f×", r.speed_ratio))
+      << " | " << opt("%.2f", r.mrays_per_second) << " | " << opt("%.1f", r.tests_per_ray) << " | "
+      << fmt("%.2f", r.seconds) << " |\n";
+  return s.str();
+}
+
+std::string gradescope_json(const std::vector<CaseResult>& rs, const RunInfo& info) {
+  std::ostringstream s;
+  s << "{\n  \"score\": " << json_number(total(rs, false)) << ",\n"
+    << "  \"output\": " << json_quote("Graded " + std::to_string(rs.size()) + " cases in " +
+                                      fmt("%.0f", info.wall_seconds) + " s.")
+    << ",\n  \"visibility\": \"visible\",\n  \"stdout_visibility\": \"visible\",\n  \"tests\": [\n";
+  for (size_t i = 0; i < rs.size(); ++i) {
+    const CaseResult& r = rs[i];
+    std::string output = std::string(verdict_name(r.verdict)) + ": " + r.message;
+    if (!r.metric.empty()) output += "\n" + r.metric;
+    output += "\nCommand: " + r.command;
+    if (r.verdict != Verdict::Passed && !r.log.empty()) output += "\nOutput of the render:\n" + r.log;
+    s << "    {\n      \"name\": " << json_quote("Part " + std::to_string(r.c.part) + ": " + r.c.name) << ",\n"
+      << "      \"number\": " << json_quote(std::to_string(r.c.part) + "." + std::to_string(i + 1)) << ",\n"
+      << "      \"score\": " << json_number(r.score) << ",\n"
+      << "      \"max_score\": " << json_number(r.max_score) << ",\n"
+      << "      \"status\": " << (r.verdict == Verdict::Passed ? "\"passed\"" : "\"failed\"") << ",\n"
+      << "      \"output\": " << json_quote(output) << ",\n"
+      << "      \"visibility\": \"visible\",\n"
+      << "      \"extra_data\": {\"seconds\": " << json_number(r.seconds)
+      << ", \"render_seconds\": " << json_number(r.render_seconds)
+      << ", \"reference_seconds\": " << json_number(r.reference_seconds)
+      << ", \"speed_ratio\": " << json_number(r.speed_ratio) << ", \"relmse\": " << json_number(r.relmse)
+      << ", \"tests_per_ray\": " << json_number(r.tests_per_ray) << "}\n"
+      << "    }" << (i + 1 < rs.size() ? "," : "") << "\n";
+  }
+  s << "  ]\n}\n";
+  return s.str();
+}
+
+std::string html_report(const std::vector<CaseResult>& rs, const RunInfo& info) {
+  std::ostringstream s;
+  const double t = total(rs, false), m = total(rs, true);
+  s << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>Grading report</title>\n<style>\n"
+       "body{font-family:system-ui,sans-serif;margin:2em;max-width:75em;color:#222}\n"
+       "table{border-collapse:collapse}td,th{padding:.25em .6em;border-bottom:1px solid #ddd;text-align:left}\n"
+       ".passed{color:#16702e;font-weight:bold}.failed{color:#b3261e;font-weight:bold}.error{color:#8a5a00;font-weight:bold}\n"
+       ".case{border:1px solid #ccc;border-radius:6px;padding:1em;margin:1.5em 0}\n"
+       ".imgs{display:flex;gap:1em;flex-wrap:wrap}.imgs figure{margin:0}.imgs img{width:256px;image-rendering:pixelated;border:1px solid #999}\n"
+       "code,pre{background:#f4f4f4;padding:.1em .3em}pre{max-height:12em;overflow:auto;white-space:pre-wrap}\n"
+       "</style></head><body>\n";
+  s << "<h1>Grading report</h1>\n<p>Binary: <code>" << html_escape(info.pathtracer) << "</code>; started "
+    << html_escape(info.started) << "; " << fmt("%.0f", info.wall_seconds) << " s; seed " << info.seed << ".</p>\n";
+  s << "<p><strong>Score " << fmt("%.2f", t) << " / " << fmt("%g", m) << " (" << fmt("%.1f", m > 0 ? 100 * t / m : 0)
+    << "%)</strong></p>\n";
+  s << "<table><tr><th>part</th><th>case</th><th>verdict</th><th>score</th><th>relMSE</th><th>time</th><th>speed</th><th>detail</th></tr>\n";
+  for (const auto& r : rs)
+    s << "<tr><td>" << r.c.part << "</td><td><a href=\"#" << r.c.name << "\">" << r.c.name << "</a></td><td class=\""
+      << verdict_name(r.verdict) << "\">" << verdict_name(r.verdict) << "</td><td>" << fmt("%.2f", r.score) << "/"
+      << fmt("%g", r.max_score) << "</td><td>" << opt("%.4f", r.relmse) << "</td><td>" << fmt("%.1f s", r.seconds)
+      << "</td><td>" << (r.speed_ratio < 0 ? "-" : fmt("%.2f×", r.speed_ratio)) << "</td><td>"
+      << html_escape(r.verdict == Verdict::Passed ? r.metric : r.message) << "</td></tr>\n";
+  s << "</table>\n";
+  for (const auto& r : rs) {
+    s << "<div class=\"case\" id=\"" << r.c.name << "\"><h2>Part " << r.c.part << ": " << r.c.name << " <span class=\""
+      << verdict_name(r.verdict) << "\">" << verdict_name(r.verdict) << "</span></h2>\n";
+    s << "<p>" << html_escape(r.message) << "</p>\n";
+    if (!r.metric.empty()) s << "<p>" << html_escape(r.metric) << "</p>\n";
+    s << "<p><code>" << html_escape(r.command) << "</code></p>\n";
+    const std::string cand = base64_file(r.dir + "/candidate.png"), ref = base64_file(r.dir + "/reference.png"),
+                      err = base64_file(r.dir + "/error.png");
+    if (!cand.empty() || !ref.empty()) {
+      s << "<div class=\"imgs\">";
+      const auto fig = [&](const std::string& data, const char* caption) {
+        if (!data.empty())
+          s << "<figure><img alt=\"" << caption << "\" src=\"data:image/png;base64," << data << "\"><figcaption>"
+            << caption << "</figcaption></figure>";
+      };
+      fig(cand, "candidate");
+      fig(ref, "reference (mean)");
+      fig(err, "|z| per pixel (red: beyond the threshold)");
+      s << "</div>\n";
+    }
+    if (r.verdict != Verdict::Passed && !r.log.empty()) s << "<pre>" << html_escape(r.log) << "</pre>\n";
+    s << "</div>\n";
+  }
+  s << "</body></html>\n";
+  return s.str();
+}
+
+void write_reports(const std::string& dir, const std::vector<CaseResult>& rs, const RunInfo& info) {
+  write_text(dir + "/report.txt", terminal_table(rs));
+  write_text(dir + "/timing.md", timing_tables(rs));
+  write_text(dir + "/results.json", gradescope_json(rs, info));
+  write_text(dir + "/report.html", html_report(rs, info));
+}
+
+}  // namespace grader

@@ -1,0 +1,156 @@
+#include "run_case.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace grader {
+
+namespace fs = std::filesystem;
+
+void case_resolution(const Case& c, int* width, int* height) {
+  *width = 800;
+  *height = 600;
+  for (size_t i = 0; i + 2 < c.options.size(); ++i)
+    if (c.options[i] == "-r") {
+      try {
+        *width = std::stoi(c.options[i + 1]);
+        *height = std::stoi(c.options[i + 2]);
+      } catch (...) {
+      }
+    }
+}
+
+int case_int_option(const Case& c, const std::string& flag, int fallback) {
+  for (size_t i = 0; i + 1 < c.options.size(); ++i)
+    if (c.options[i] == flag) {
+      try {
+        return std::stoi(c.options[i + 1]);
+      } catch (...) {
+      }
+    }
+  return fallback;
+}
+
+namespace {
+
+std::string log_excerpt(const std::string& dir) {
+  std::string out = read_text_sanitized(dir + "/stdout.txt", 4000);
+  const std::string err = read_text_sanitized(dir + "/stderr.txt", 4000);
+  if (!err.empty()) out += (out.empty() ? "" : "\n") + std::string("[stderr]\n") + err;
+  return out;
+}
+
+// Checks an image file's size against the case's.
+bool size_matches(const Image& img, int w, int h, const std::string& what, std::string* failure) {
+  if (img.width == w && img.height == h) return true;
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%s is %d x %d, expected %d x %d", what.c_str(), img.width, img.height, w, h);
+  *failure = buf;
+  return false;
+}
+
+}  // namespace
+
+RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t seed, const std::string& dir,
+                         bool want_rate) {
+  RenderOutput out;
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  fs::create_directories(dir, ec);
+  if (ec) {
+    out.failure = "cannot create " + dir + ": " + ec.message();
+    return out;
+  }
+  const std::string abs_dir = fs::absolute(dir).string();
+  std::vector<std::string> argv = {fs::absolute(s.pathtracer).string(), "--part", std::to_string(part)};
+  argv.insert(argv.end(), c.options.begin(), c.options.end());
+  argv.insert(argv.end(), {"-t", std::to_string(s.threads)});
+  argv.insert(argv.end(), {"--seed", std::to_string(seed), "--no-progress", "-f", abs_dir + "/render.png", "--pfm",
+                           abs_dir + "/render.pfm", "--stats-json", abs_dir + "/stats.json",
+                           fs::absolute(fs::path(s.scenes_dir) / c.scene).string()});
+  Limits limits;
+  limits.wall_seconds = c.timeout_seconds * s.timeout_scale;
+  limits.cpu_seconds = limits.wall_seconds * (s.threads + 1);
+  limits.memory_bytes = s.memory_bytes;
+  limits.file_bytes = s.output_bytes;
+  out.child = run_child(argv, abs_dir, abs_dir + "/stdout.txt", abs_dir + "/stderr.txt", limits);
+  out.seconds = out.child.seconds;
+  out.log = log_excerpt(abs_dir);
+
+  if (!out.child.started || out.child.timed_out || out.child.signal != 0 || out.child.exit_code != 0) {
+    out.failure = describe(out.child, limits);
+    return out;
+  }
+  const uint64_t bytes = directory_bytes(abs_dir);
+  if (bytes > s.output_bytes) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "wrote %.0f MB, more than the %.0f MB limit", double(bytes) / (1 << 20),
+                  double(s.output_bytes) / (1 << 20));
+    out.failure = buf;
+    return out;
+  }
+  int w = 0, h = 0;
+  case_resolution(c, &w, &h);
+  const auto missing = [&](const std::string& name, const std::string& flag) {
+    out.failure = "wrote no " + name + " (" + flag + ")";
+  };
+  // The course's PNG must be there and be a real PNG of the right size.
+  if (!fs::exists(abs_dir + "/render.png")) {
+    missing("image", "-f render.png");
+    return out;
+  }
+  try {
+    const Image png = read_png_image(abs_dir + "/render.png");
+    if (!size_matches(png, w, h, "the PNG image", &out.failure)) return out;
+  } catch (const std::exception& e) {
+    out.failure = std::string("unreadable PNG: ") + e.what();
+    return out;
+  }
+  // The float image is what gets scored.
+  if (!fs::exists(abs_dir + "/render.pfm")) {
+    missing("floating-point image", "--pfm render.pfm");
+    return out;
+  }
+  try {
+    out.radiance = read_pfm_image(abs_dir + "/render.pfm");
+  } catch (const std::exception& e) {
+    out.failure = std::string("unreadable PFM: ") + e.what();
+    return out;
+  }
+  if (!size_matches(out.radiance, w, h, "the PFM image", &out.failure)) return out;
+  int fx = 0, fy = 0;
+  if (const int bad = count_non_finite(out.radiance, &fx, &fy)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d pixel%s NaN or infinite (the first at x=%d, y=%d from the top)", bad,
+                  bad == 1 ? " is" : "s are", fx, fy);
+    out.failure = buf;
+    return out;
+  }
+  if (want_rate) {
+    const std::string rate_path = abs_dir + "/render_rate.png";
+    if (!fs::exists(rate_path)) {
+      missing("sample-rate image", "render_rate.png");
+      return out;
+    }
+    try {
+      out.rate = rate_from_colors(read_png_image(rate_path));
+    } catch (const std::exception& e) {
+      out.failure = std::string("unreadable rate PNG: ") + e.what();
+      return out;
+    }
+    if (!size_matches(out.rate, w, h, "the rate image", &out.failure)) return out;
+  }
+  if (fs::exists(abs_dir + "/stats.json")) {
+    try {
+      out.stats = read_json_file(abs_dir + "/stats.json");
+      out.has_stats = out.stats.type == Json::Type::Object;
+    } catch (const std::exception&) {
+      out.has_stats = false;  // only cost cases need it; they say so
+    }
+  }
+  out.ok = true;
+  return out;
+}
+
+}  // namespace grader

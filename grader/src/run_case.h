@@ -1,0 +1,47 @@
+// One render of one case by one pathtracer binary, in its own folder, with
+// every output checked: the step shared by grading, making references and
+// calibrating.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "case_list.h"
+#include "child_process.h"
+#include "json.h"
+#include "scoring.h"
+
+namespace grader {
+
+struct RunSettings {
+  std::string pathtracer;      // the binary under test
+  std::string scenes_dir;      // where case scenes are found
+  int threads = 1;             // -t for each render
+  double timeout_scale = 1.0;  // multiplies each case's timeout
+  uint64_t memory_bytes = 4ull << 30;
+  uint64_t output_bytes = 256ull << 20;  // per file and for the folder
+};
+
+struct RenderOutput {
+  bool ok = false;          // ran, exited 0 and wrote valid images of the right size
+  std::string failure;      // one line: why not
+  ChildResult child;
+  double seconds = 0;       // wall-clock, whole process
+  Image radiance;           // from the PFM
+  Image rate;               // 1 channel, when `want_rate`
+  bool has_stats = false;
+  Json stats;               // --stats-json
+  std::string log;          // stdout + stderr excerpt, sanitised
+};
+
+// The size `-r W H` in a case's options (the course's default 800 x 600).
+void case_resolution(const Case& c, int* width, int* height);
+
+// The integer after `flag` in a case's options, or `fallback`.
+int case_int_option(const Case& c, const std::string& flag, int fallback);
+
+// Renders `c` with --part `part` and seed `seed` into `dir` (created,
+// emptied first). Never throws: every problem becomes `failure`.
+RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t seed, const std::string& dir,
+                         bool want_rate);
+
+}  // namespace grader

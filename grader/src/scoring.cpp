@@ -1,0 +1,187 @@
+#include "scoring.h"
+
+#include <lodepng.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "image_io.h"
+
+namespace grader {
+
+Image read_pfm_image(const std::string& path) {
+  const pt::ImageBuffer buf = pt::read_pfm(path);  // bottom row first
+  Image img(buf.width, buf.height, 3);
+  for (int y = 0; y < buf.height; ++y)
+    for (int x = 0; x < buf.width; ++x) {
+      const auto& p = buf.at(x, buf.height - 1 - y);
+      for (int c = 0; c < 3; ++c) img.at(x, y, c) = p[c];
+    }
+  return img;
+}
+
+void write_pfm_image(const std::string& path, const Image& img) {
+  pt::ImageBuffer buf(img.width, img.height);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      auto& p = buf.at(x, img.height - 1 - y);
+      for (int c = 0; c < 3; ++c) p[c] = img.at(x, y, img.channels == 3 ? c : 0);
+    }
+  pt::write_pfm(path, buf);
+}
+
+Image read_png_image(const std::string& path) {
+  std::vector<unsigned char> rgb;
+  unsigned w = 0, h = 0;
+  const unsigned err = lodepng::decode(rgb, w, h, path, LCT_RGB, 8);
+  if (err) throw std::runtime_error(path + ": " + lodepng_error_text(err));
+  Image img(int(w), int(h), 3);
+  for (size_t i = 0; i < rgb.size(); ++i) img.data[i] = float(rgb[i]);
+  return img;
+}
+
+Image rate_from_colors(const Image& rgb) {
+  Image rate(rgb.width, rgb.height, 1);
+  for (int y = 0; y < rgb.height; ++y)
+    for (int x = 0; x < rgb.width; ++x) {
+      const float r = rgb.at(x, y, 0), g = rgb.at(x, y, 1), b = rgb.at(x, y, 2);
+      // Blue -> green covers [0, 0.5], green -> red covers [0.5, 1].
+      float v = 0;
+      if (r > 0 && r + g > 0) v = 0.5f + 0.5f * r / (r + g);
+      else if (g + b > 0) v = 0.5f * g / (g + b);
+      rate.at(x, y, 0) = v;
+    }
+  return rate;
+}
+
+double normal_two_sided_threshold(double p) {
+  // P(|Z| > z) = erfc(z / sqrt 2); erfc decreases, so bisect.
+  double lo = 0, hi = 40;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (std::erfc(mid / std::sqrt(2.0)) > p) lo = mid;
+    else hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double sidak_level(double alpha, int n) {
+  // 1 - (1 - alpha)^(1/n), written to keep precision for large n.
+  return -std::expm1(std::log1p(-alpha) / std::max(n, 1));
+}
+
+int count_non_finite(const Image& img, int* first_x, int* first_y) {
+  int n = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int c = 0; c < img.channels; ++c)
+        if (!std::isfinite(img.at(x, y, c))) {
+          if (n == 0 && first_x && first_y) {
+            *first_x = x;
+            *first_y = y;
+          }
+          ++n;
+          break;
+        }
+  return n;
+}
+
+ImageScore score_image(const Image& cand, const Image& mean, const Image& var, int runs, const ScoreOptions& opts) {
+  ImageScore s;
+  const int w = cand.width, h = cand.height, nc = cand.channels;
+  const double inflate = 1.0 + 1.0 / std::max(runs, 1);
+  // A pixel whose rare paths (a firefly, the fifth bounce alone) never
+  // showed in the B reference renders has its variance underestimated,
+  // often as 0. Neighbouring pixels see nearly the same paths, so each
+  // pixel's variance is taken as at least the mean over its 3x3
+  // neighbourhood: conservative, and robust to such holes.
+  Image v3(w, h, nc);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < nc; ++c) {
+        double sum = 0;
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+            sum += var.at(xx, yy, c);
+            ++n;
+          }
+        v3.at(x, y, c) = float(std::max(double(var.at(x, y, c)), sum / n));
+      }
+  const auto sigma2 = [&](int x, int y, int c) {
+    return std::max(double(v3.at(x, y, c)) * inflate, opts.variance_floor);
+  };
+
+  s.channels_tested = w * h * nc;
+  s.pixel_threshold = normal_two_sided_threshold(sidak_level(opts.alpha, s.channels_tested));
+  s.pixel_z.assign(size_t(w) * h, 0.0f);
+  double sum_c = 0, sum_m = 0, rel = 0, rel_expected = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < nc; ++c) {
+        const double cv = cand.at(x, y, c), mv = mean.at(x, y, c), d = cv - mv;
+        const double z = std::fabs(d) / std::sqrt(sigma2(x, y, c));
+        if (z > s.pixel_threshold) ++s.channels_failed;
+        float& pz = s.pixel_z[size_t(y) * w + x];
+        pz = std::max(pz, float(z));
+        sum_c += cv;
+        sum_m += mv;
+        const double denom = mv * mv + 0.01;
+        rel += d * d / denom;
+        rel_expected += double(var.at(x, y, c)) * inflate / denom;
+      }
+  const double n = double(s.channels_tested);
+  s.mean_candidate = sum_c / n;
+  s.mean_reference = sum_m / n;
+  s.relmse = rel / n;
+  s.relmse_expected = rel_expected / n;
+  const bool pixels_ok = s.channels_failed <= (1.0 - opts.min_pass_fraction) * n;
+
+  bool blocks_ok = true;
+  if (opts.block_test) {
+    const int bs = opts.block_size;
+    const int bx = (w + bs - 1) / bs, by = (h + bs - 1) / bs;
+    s.blocks_tested = bx * by * nc;
+    s.block_threshold = normal_two_sided_threshold(sidak_level(opts.alpha, s.blocks_tested));
+    for (int j = 0; j < by; ++j)
+      for (int i = 0; i < bx; ++i)
+        for (int c = 0; c < nc; ++c) {
+          double d = 0, v = 0;
+          int count = 0;
+          for (int y = j * bs; y < std::min(h, (j + 1) * bs); ++y)
+            for (int x = i * bs; x < std::min(w, (i + 1) * bs); ++x) {
+              d += double(cand.at(x, y, c)) - mean.at(x, y, c);
+              v += double(var.at(x, y, c)) * inflate;
+              ++count;
+            }
+          // Pixels are independent (each has its own random stream), so the
+          // block mean's variance is the sum of theirs over count^2. The
+          // floor applies to the block as a whole: a block that never varies
+          // (the light seen directly) must still match to ~1e-2 / count.
+          const double se = std::sqrt(std::max(v, opts.variance_floor)) / count;
+          const double z = std::fabs(d / count) / se;
+          s.max_block_z = std::max(s.max_block_z, z);
+          if (z > s.block_threshold) ++s.blocks_failed;
+        }
+    blocks_ok = s.blocks_failed == 0;
+  }
+  s.passed = pixels_ok && blocks_ok;
+  return s;
+}
+
+std::string ImageScore::summary() const {
+  char buf[200];
+  const double ok = channels_tested ? 100.0 * (channels_tested - channels_failed) / channels_tested : 0.0;
+  if (blocks_tested > 0)
+    std::snprintf(buf, sizeof buf, "%.2f%% px ok, %d/%d blocks off, relMSE %.3g (noise %.3g)", ok, blocks_failed,
+                  blocks_tested, relmse, relmse_expected);
+  else
+    std::snprintf(buf, sizeof buf, "%.2f%% px ok, relMSE %.3g", ok, relmse);
+  return buf;
+}
+
+}  // namespace grader

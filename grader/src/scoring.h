@@ -1,0 +1,78 @@
+// Statistical scoring of a candidate image against a reference.
+//
+// The reference of a case is B independent renders of the reference build
+// at exactly the case's settings (different seeds): their per-pixel mean m
+// and per-pixel variance v (the variance of ONE render at the case's
+// budget, estimated across the B renders). A correct candidate render c is
+// then another independent draw, so c - m has variance v (1 + 1/B).
+//
+// Two tests, both at a family-wise level alpha with a Šidák-corrected
+// per-test threshold, in the manner of Mitsuba 3's render tests:
+//  - per pixel channel: z = |c - m| / sqrt(max(v* (1 + 1/B), floor)), where
+//    v* = max(v, mean of v over the 3x3 neighbourhood) guards against
+//    variances that B renders underestimate; the image passes when at least
+//    `min_pass_fraction` of the channels pass (a few pixels may sit on an
+//    edge or catch a firefly);
+//  - per 8x8 block and channel (Monte Carlo cases only): the mean of
+//    c - m over the block against its own standard error. A small bias that
+//    hides in per-pixel noise (a missing Russian-roulette division) shows in
+//    64-pixel averages; every block must pass.
+// relMSE = mean (c - m)^2 / (m^2 + 0.01) is reported beside it, with the
+// value noise alone would give, for partial credit and for people.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace grader {
+
+// A floating-point image, row 0 at the top, `channels` floats per pixel.
+struct Image {
+  int width = 0, height = 0, channels = 3;
+  std::vector<float> data;
+  Image() = default;
+  Image(int w, int h, int c) : width(w), height(h), channels(c), data(size_t(w) * h * c, 0.0f) {}
+  float& at(int x, int y, int c) { return data[(size_t(y) * width + x) * channels + c]; }
+  float at(int x, int y, int c) const { return data[(size_t(y) * width + x) * channels + c]; }
+};
+
+// Reads a colour PFM into a top-row-first image. Throws with the file name.
+Image read_pfm_image(const std::string& path);
+void write_pfm_image(const std::string& path, const Image& img);
+// Reads an 8-bit PNG (RGB). Throws "<path>: <lodepng's reason>".
+Image read_png_image(const std::string& path);
+// The course's sample-rate colours back to rates in [0, 1] (1 channel).
+Image rate_from_colors(const Image& rgb);
+
+struct ScoreOptions {
+  double alpha = 0.01;               // family-wise, per test kind
+  double min_pass_fraction = 0.9975; // of pixel channels
+  double variance_floor = 1e-4;      // on v (1 + 1/B)
+  bool block_test = true;            // off for deterministic references
+  int block_size = 8;
+};
+
+struct ImageScore {
+  bool passed = false;
+  int channels_tested = 0, channels_failed = 0;
+  int blocks_tested = 0, blocks_failed = 0;
+  double pixel_threshold = 0, block_threshold = 0;  // |z| limits
+  double max_block_z = 0;
+  double relmse = 0, relmse_expected = 0;
+  double mean_candidate = 0, mean_reference = 0;
+  std::vector<float> pixel_z;  // per pixel, the largest |z| over channels
+  std::string summary() const;  // "99.98% px ok, 0/192 blocks off, relMSE 0.012 (noise 0.011)"
+};
+
+// The sizes must agree (checked by the caller); values must be finite.
+ImageScore score_image(const Image& candidate, const Image& mean, const Image& variance, int reference_runs,
+                       const ScoreOptions& opts);
+
+// The two-sided standard-normal threshold z with P(|Z| > z) = p.
+double normal_two_sided_threshold(double p);
+// Šidák: the per-test level giving family-wise level alpha over n tests.
+double sidak_level(double alpha, int n);
+
+// Counts non-finite values; `first` gets the first one's pixel.
+int count_non_finite(const Image& img, int* first_x, int* first_y);
+
+}  // namespace grader

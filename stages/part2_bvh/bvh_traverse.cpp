@@ -101,6 +101,9 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
       const int h = slab_test_pair(&nodes_[n.first], pray, r.min_t, r.max_t, &ta, &tb);
       const bool ha = h & 1, hb = h & 2;
       if (ha && hb) {
+#ifdef PT_MUTANT_bvh_drops_child
+        ni = ta <= tb ? n.first : n.first + 1;  // the farther child is never pushed
+#else
         if (ta <= tb) {
           stack[sp++] = {n.first + 1, tb};
           ni = n.first;
@@ -108,6 +111,7 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
           stack[sp++] = {n.first, ta};
           ni = n.first + 1;
         }
+#endif
       } else if (ha) {
         ni = n.first;
       } else if (hb) {

@@ -15,7 +15,11 @@ Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions&
   // STUB: return one_bounce_radiance(ctx, r, hit, rng);
   Color L(0.0f);
   const bool first_bounce = r.depth == opts.max_depth;
+#ifdef PT_MUTANT_o0_accumulates
+  if (!(opts.skip_direct && first_bounce))  // every bounce, even with -o 0
+#else
   if ((opts.accumulate || r.depth == 1) && !(opts.skip_direct && first_bounce))
+#endif
     L += one_bounce_radiance(ctx, r, hit, rng);
   if (r.depth <= 1) return L;
 
@@ -23,7 +27,11 @@ Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions&
   float survive = 1.0f;
   if (!first_bounce && opts.russian_roulette) {
     if (rng.uniform() >= kContinueProbability) return L;
+#ifdef PT_MUTANT_no_rr_division
+    // Survivors are not divided by the continuation probability.
+#else
     survive = kContinueProbability;
+#endif
   }
   const Frame frame = Frame::from_normal(hit.n);
   const Vec3 wo = frame.to_local(-r.d);

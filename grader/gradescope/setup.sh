@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Gradescope runs this once, as root, when it builds the autograder image
+# (the zip is unpacked in /autograder/source). It installs the packages,
+# then builds the grader and a starter-kit pathtracer in /autograder/pt, so
+# that each submission's build recompiles only its stages/.
+#
+# Environment (for testing outside Gradescope):
+#   AUTOGRADER_ROOT=DIR     instead of /autograder
+#   AUTOGRADER_SKIP_APT=1   do not install packages (they are there already)
+set -euo pipefail
+
+source_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=${AUTOGRADER_ROOT:-/autograder}
+pt=$root/pt
+jobs=$(nproc 2>/dev/null || echo 2)
+
+packages=(build-essential cmake python3 libtinyxml2-dev liblodepng-dev libcli11-dev libopenexr-dev)
+if [ "${AUTOGRADER_SKIP_APT:-0}" != 1 ]; then
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update
+  apt-get install -y --no-install-recommends "${packages[@]}"
+fi
+
+# The tree submissions are built in: the starter kit; run_autograder puts
+# each submission's stages/ over it.
+rm -rf "$pt"
+mkdir -p "$pt/bin"
+cp -R "$source_dir/project" "$pt/tree"
+
+cmake -S "$pt/tree" -B "$pt/build" -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_TESTS=OFF
+cmake --build "$pt/build" --target grader pathtracer -j "$jobs"
+# The grader lives outside the build folder submissions are built in.
+cp "$pt/build/bin/grader" "$pt/bin/grader"
+"$pt/bin/grader" --help >/dev/null
+echo "setup: grader in $pt/bin/grader; starter-kit build in $pt/build"

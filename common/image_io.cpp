@@ -102,6 +102,14 @@ ImageBuffer read_pfm(const std::string& path) {
   if (w <= 0 || h <= 0 || w > 65536 || h > 65536) throw std::runtime_error(path + ": bad PFM size");
   if (scale >= 0) throw std::runtime_error(path + ": big-endian PFM is not supported");
   in.get();  // the single whitespace byte after the header
+  // All the data must be there before the image is allocated: a header of
+  // a few bytes may claim 65536 x 65536 pixels.
+  const std::streamoff data_start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff available = in.tellg() - data_start;
+  in.seekg(data_start);
+  if (!in || data_start < 0 || available < std::streamoff(size_t(w) * size_t(h) * sizeof(Color)))
+    throw std::runtime_error(path + ": PFM data is truncated");
   ImageBuffer img(w, h);
   in.read(reinterpret_cast<char*>(img.pixels.data()), std::streamsize(img.pixels.size() * sizeof(Color)));
   if (!in) throw std::runtime_error(path + ": PFM data is truncated");

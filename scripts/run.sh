@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The main job: install what is missing, build, and render the default scene.
+# The main job: install what is missing, build, render the default scene,
+# then grade the reference build on every case and print the table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -11,3 +12,6 @@ build/bin/pathtracer -t "$threads" -s 64 -l 4 -m 5 -r 480 360 -f out/CBspheres_l
   scenes/CBspheres_lambertian.dae
 echo
 echo "Rendered: $(pwd)/out/CBspheres_lambertian.png (sample rates: out/CBspheres_lambertian_rate.png)"
+echo
+echo "Grading the reference build (build/bin/pathtracer) on every case:"
+build/bin/grader run -q -j "$threads" -o out/grade

@@ -119,7 +119,10 @@ struct Common {
   }
 
   void check_binary() const {
-    if (access(pathtracer.c_str(), X_OK) != 0) throw std::runtime_error(pathtracer + ": not an executable file");
+    // access() alone accepts a directory (X_OK is search permission there).
+    std::error_code ec;
+    if (!fs::is_regular_file(pathtracer, ec) || access(pathtracer.c_str(), X_OK) != 0)
+      throw std::runtime_error(pathtracer + ": not an executable file");
   }
 };
 

@@ -64,7 +64,14 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
   }
   const std::string abs_dir = fs::absolute(dir).string();
   std::vector<std::string> argv = {fs::absolute(s.pathtracer).string(), "--part", std::to_string(part)};
-  argv.insert(argv.end(), c.options.begin(), c.options.end());
+  // Files named by options (-e environment map, -c camera settings) live
+  // beside the scenes, like the scene itself.
+  for (size_t i = 0; i < c.options.size(); ++i) {
+    const bool names_file = i > 0 && (c.options[i - 1] == "-e" || c.options[i - 1] == "-c");
+    const fs::path value(c.options[i]);
+    argv.push_back(names_file && value.is_relative() ? fs::absolute(fs::path(s.scenes_dir) / value).string()
+                                                     : c.options[i]);
+  }
   argv.insert(argv.end(), {"-t", std::to_string(s.threads)});
   argv.insert(argv.end(), {"--seed", std::to_string(seed), "--no-progress", "-f", abs_dir + "/render.png", "--pfm",
                            abs_dir + "/render.pfm", "--stats-json", abs_dir + "/stats.json",
@@ -92,14 +99,17 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
   }
   int w = 0, h = 0;
   case_resolution(c, &w, &h);
-  const auto missing = [&](const std::string& name, const std::string& flag) {
-    out.failure = "wrote no " + name + " (" + flag + ")";
+  // Every file read must be a regular file: opening a named pipe that no
+  // one writes would block the grader forever.
+  const auto present = [&](const std::string& path, const std::string& name, const std::string& flag) {
+    std::error_code st_ec;
+    const fs::file_status st = fs::status(path, st_ec);
+    if (!fs::exists(st)) out.failure = "wrote no " + name + " (" + flag + ")";
+    else if (!fs::is_regular_file(st)) out.failure = "the " + name + " (" + flag + ") is not a regular file";
+    return fs::is_regular_file(st);
   };
   // The course's PNG must be there and be a real PNG of the right size.
-  if (!fs::exists(abs_dir + "/render.png")) {
-    missing("image", "-f render.png");
-    return out;
-  }
+  if (!present(abs_dir + "/render.png", "image", "-f render.png")) return out;
   try {
     const Image png = read_png_image(abs_dir + "/render.png");
     if (!size_matches(png, w, h, "the PNG image", &out.failure)) return out;
@@ -108,10 +118,7 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
     return out;
   }
   // The float image is what gets scored.
-  if (!fs::exists(abs_dir + "/render.pfm")) {
-    missing("floating-point image", "--pfm render.pfm");
-    return out;
-  }
+  if (!present(abs_dir + "/render.pfm", "floating-point image", "--pfm render.pfm")) return out;
   try {
     out.radiance = read_pfm_image(abs_dir + "/render.pfm");
   } catch (const std::exception& e) {
@@ -127,12 +134,26 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
     out.failure = buf;
     return out;
   }
+  // Radiance is never negative; a negative pixel means a negative
+  // contribution was added (a light sample below the surface, say).
+  int negative = 0, nx = 0, ny = 0;
+  for (int y = 0; y < out.radiance.height; ++y)
+    for (int x = 0; x < out.radiance.width; ++x)
+      for (int ch = 0; ch < 3; ++ch)
+        if (out.radiance.at(x, y, ch) < 0) {
+          if (negative++ == 0) nx = x, ny = y;
+          break;
+        }
+  if (negative > 0) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d pixel%s negative radiance (the first at x=%d, y=%d from the top)", negative,
+                  negative == 1 ? " has" : "s have", nx, ny);
+    out.failure = buf;
+    return out;
+  }
   if (want_rate) {
     const std::string rate_path = abs_dir + "/render_rate.png";
-    if (!fs::exists(rate_path)) {
-      missing("sample-rate image", "render_rate.png");
-      return out;
-    }
+    if (!present(rate_path, "sample-rate image", "render_rate.png")) return out;
     try {
       out.rate = rate_from_colors(read_png_image(rate_path));
     } catch (const std::exception& e) {
@@ -141,7 +162,7 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
     }
     if (!size_matches(out.rate, w, h, "the rate image", &out.failure)) return out;
   }
-  if (fs::exists(abs_dir + "/stats.json")) {
+  if (fs::is_regular_file(abs_dir + "/stats.json", ec)) {
     try {
       out.stats = read_json_file(abs_dir + "/stats.json");
       out.has_stats = out.stats.type == Json::Type::Object;

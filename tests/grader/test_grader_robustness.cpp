@@ -1,0 +1,632 @@
+// The grader against hostile student binaries (tests/grader/fake_student.cpp):
+// one that crashes, hangs, prints garbage, writes a truncated PNG, NaNs, the
+// wrong size, nothing, fills the disk, leaves a named pipe or a PFM whose
+// header lies, forks children that hang, or exits with an error. Each must
+// become a failed case with a message naming the problem, and the grader
+// must finish, write every report and return its documented exit code
+// (0 all passed, 1 some case failed, 2 usage error or no usable reference).
+// Also: shards merge into the unsharded result; a missing reference, a
+// malformed case list and a missing binary are usage errors.
+//
+// Every run works in its own temporary folder: a copy of scenes/CBempty.dae
+// per case (16 x 12, part 1: deterministic normal shading), references made
+// with the real pathtracer (`grader make-references --runs 2`).
+//
+// GRADER_UNDER_TEST, when set, names another grader binary to test (a build
+// with a planted bug, to see these tests fail).
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cerrno>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "strict_json.h"
+#include "support.h"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using Catch::Matchers::EndsWith;
+using Catch::Matchers::StartsWith;
+using pt::test::JsonValue;
+using pt::test::StrictJson;
+using pt::test::TempDir;
+
+constexpr double kPoints = 2;            // every test case is worth 2 points
+constexpr int kGraderTimeLimit = 30;     // s: a grader still running then has hung
+constexpr rlim_t kGraderAddressSpace = rlim_t(2) << 30;  // a memory bomb fails instead of swapping
+
+// The fake student's behaviours and what the grader must say about each.
+struct Mode {
+  const char* name;
+  bool passes;          // the render is correct (the case passes)
+  const char* message;  // part of the case's message (failures)
+  double timeout;       // the case's timeout (s)
+};
+const Mode kModes[] = {
+    {"good", true, "matches the reference", 20},
+    {"crash", false, "crashed: killed by signal 11 (Segmentation fault)", 20},
+    {"hang", false, "timed out after 1 s (killed)", 1},
+    {"fork_hang", true, "matches the reference", 20},
+    {"garbage", false, "wrote no image (-f render.png)", 20},
+    {"truncated_png", false, "unreadable PNG: ", 20},
+    {"nan", false, "2 pixels are NaN or infinite (the first at x=3, y=2 from the top)", 20},
+    {"wrong_size", false, "the PNG image is 8 x 6, expected 16 x 12", 20},
+    {"wrong_size_pfm", false, "the PFM image is 8 x 6, expected 16 x 12", 20},
+    {"nothing", false, "wrote no image (-f render.png)", 20},
+    {"no_pfm", false, "wrote no floating-point image (--pfm render.pfm)", 20},
+    {"disk_fill", false, "wrote a file larger than the 1 MB limit (killed by SIGXFSZ)", 20},
+    {"disk_fill_many", false, "wrote 3 MB, more than the 1 MB limit", 20},
+    {"fifo", false, "the image (-f render.png) is not a regular file", 20},
+    {"fifo_stats", true, "matches the reference", 20},
+    {"huge_pfm", false, "PFM data is truncated", 20},
+    {"exit3", false, "exited with status 3", 20},
+};
+
+std::string grader_exe() {
+  const char* other = std::getenv("GRADER_UNDER_TEST");
+  return other && *other ? other : GRADER_EXE;
+}
+
+const Mode& mode(const std::string& name) {
+  for (const Mode& m : kModes)
+    if (name == m.name) return m;
+  throw std::runtime_error("no mode " + name);
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+JsonValue parse_json_file(const std::string& path) {
+  INFO("file: " << path);
+  REQUIRE(fs::exists(path));
+  try {
+    return StrictJson::parse(slurp(path));
+  } catch (const std::exception& e) {
+    FAIL(path << " is not valid JSON: " << e.what());
+  }
+  return {};
+}
+
+// ---- Running programs ----
+
+struct Run {
+  bool finished = false;  // false: killed at kGraderTimeLimit (it hung)
+  int exit_code = -1;     // when it exited
+  int signal = 0;         // when a signal ended it
+  std::string out, err;
+  std::string summary() const {
+    const auto cut = [](const std::string& s) { return s.size() > 3000 ? s.substr(0, 3000) + "..." : s; };
+    return "exit " + std::to_string(exit_code) + ", signal " + std::to_string(signal) + "\n[stdout]\n" + cut(out) +
+           "\n[stderr]\n" + cut(err);
+  }
+};
+
+// Runs argv (no shell) with `env` added to this process's environment, under
+// an address-space limit and an alarm that ends it after kGraderTimeLimit.
+Run run_program(const std::vector<std::string>& argv, const std::vector<std::pair<std::string, std::string>>& env) {
+  TempDir io;
+  const std::string out_path = io.file("stdout"), err_path = io.file("stderr");
+  std::vector<std::string> env_s;
+  for (char** e = environ; *e; ++e)
+    if (std::string(*e).rfind("FAKE_STUDENT_", 0) != 0) env_s.push_back(*e);
+  for (const auto& [k, v] : env) env_s.push_back(k + "=" + v);
+  std::vector<char*> args, envp;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  for (const std::string& e : env_s) envp.push_back(const_cast<char*>(e.c_str()));
+  envp.push_back(nullptr);
+
+  Run r;
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    const int in = open("/dev/null", O_RDONLY);
+    const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (in < 0 || out < 0 || err < 0) _exit(126);
+    dup2(in, 0);
+    dup2(out, 1);
+    dup2(err, 2);
+    const struct rlimit as = {kGraderAddressSpace, kGraderAddressSpace};
+    setrlimit(RLIMIT_AS, &as);
+    alarm(kGraderTimeLimit);  // survives exec; SIGALRM ends the program
+    execve(args[0], args.data(), envp.data());
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  r.finished = !(WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM);
+  if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  r.out = slurp(out_path);
+  r.err = slurp(err_path);
+  return r;
+}
+
+// The grader ran to its end, by itself, with `code`.
+void check_finished(const Run& g, int code) {
+  INFO(g.summary());
+  REQUIRE(g.finished);   // else the grader hung and was killed after kGraderTimeLimit s
+  CHECK(g.signal == 0);  // else the grader itself crashed
+  CHECK(g.exit_code == code);
+}
+
+// ---- Processes the fake student leaves behind ----
+
+struct Recorded {
+  pid_t pid = 0;
+  std::string start_time;  // field 22 of /proc/<pid>/stat
+};
+
+std::vector<Recorded> read_recorded(const std::string& path) {
+  std::vector<Recorded> v;
+  std::ifstream in(path);
+  for (Recorded r; in >> r.pid >> r.start_time;) v.push_back(r);
+  return v;
+}
+
+// The recorded process as it is now: "" when gone (or the pid belongs to
+// another process since), else its state letter (Z: a zombie, exited).
+std::string state_of(const Recorded& r) {
+  std::ifstream in("/proc/" + std::to_string(r.pid) + "/stat");
+  if (!in) return "";
+  const std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t paren = stat.rfind(')');
+  if (paren == std::string::npos) return "";
+  std::istringstream rest(stat.substr(paren + 2));
+  std::string state, field;
+  rest >> state;
+  for (int i = 4; i <= 22 && (rest >> field); ++i) {
+  }
+  return field == r.start_time ? state : "";
+}
+
+bool still_running(const Recorded& r) {
+  const std::string state = state_of(r);
+  return !state.empty() && state != "Z" && state != "X";
+}
+
+// True when the recorded process has ended, or ends within `seconds` (the
+// grader's SIGKILL is queued when it returns, but a process dies on its own
+// schedule): waits on a pidfd, which is readable once the process exits.
+bool ends_within(const Recorded& r, int seconds) {
+  const int fd = int(syscall(SYS_pidfd_open, r.pid, 0));
+  if (fd < 0) return true;  // no such process
+  bool ended = !still_running(r);  // checked after the pidfd pins the pid
+  if (!ended) {
+    struct pollfd p = {fd, POLLIN, 0};
+    int n;
+    while ((n = poll(&p, 1, seconds * 1000)) < 0 && errno == EINTR) {
+    }
+    ended = n == 1;
+  }
+  close(fd);
+  return ended;
+}
+
+// Kills, at the end of a test, whatever the fake student recorded and is
+// still running (only when a check has already failed), so that a failing
+// test leaves nothing behind.
+class KillLeftovers {
+ public:
+  explicit KillLeftovers(std::string path) : path_(std::move(path)) {}
+  ~KillLeftovers() {
+    for (const Recorded& r : read_recorded(path_))
+      if (still_running(r)) kill(r.pid, SIGKILL);
+  }
+
+ private:
+  std::string path_;
+};
+
+// ---- A grading sandbox: scenes, case list, references ----
+
+class Sandbox {
+ public:
+  Sandbox() : leftovers_(pids()) { fs::create_directories(scenes()); }
+
+  std::string path(const std::string& name) const { return tmp_.file(name); }
+  std::string scenes() const { return path("scenes"); }
+  std::string cases() const { return path("cases.txt"); }
+  std::string refs() const { return path("refs"); }
+  std::string pids() const { return path("pids.txt"); }
+
+  // A case `name` (1 image, kPoints points) rendering `name`.dae, a copy of
+  // the project's CBempty.dae, at 16 x 12 with part 1.
+  void add_case(const std::string& name, double timeout) {
+    fs::copy_file(pt::test::project_scene("CBempty.dae"), scenes() + "/" + name + ".dae",
+                  fs::copy_options::overwrite_existing);
+    std::ostringstream line;
+    line << name << " 1 image " << kPoints << " " << timeout << " " << name << ".dae -r 16 12\n";
+    lines_ += line.str();
+    if (first_.empty()) first_ = name;
+    pt::test::write_text(cases(), "# Robustness cases\n" + lines_);
+  }
+
+  // References for every case (or only `only`) with the real pathtracer.
+  void make_references(const std::string& only = "") {
+    std::vector<std::string> argv = {grader_exe(), "make-references", "--pathtracer", PT_PATHTRACER_EXE, "--runs", "2",
+                                     "-j", "2", "--references", refs(), "--cases", cases(), "--scenes", scenes(),
+                                     "--work", path("work")};
+    if (!only.empty()) argv.insert(argv.end(), {"--case", only});
+    const Run r = run_program(argv, {});
+    INFO(r.summary());
+    REQUIRE(r.finished);
+    REQUIRE(r.exit_code == 0);
+  }
+
+  // `grader run` of the fake student in `fake_mode` into `out`.
+  Run grade(const std::string& fake_mode, const std::string& out, const std::vector<std::string>& extra = {}) const {
+    std::vector<std::string> argv = {grader_exe(), "run", "--pathtracer", FAKE_STUDENT_EXE, "--cases", cases(),
+                                     "--references", refs(), "--scenes", scenes(), "-o", out, "-j", "2",
+                                     "--output-mb", "1", "--memory-mb", "512"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return run_program(argv, {{"FAKE_STUDENT_MODE", fake_mode},
+                              {"FAKE_STUDENT_MEAN", refs() + "/" + first_ + "/mean.pfm"},
+                              {"FAKE_STUDENT_PIDS", pids()}});
+  }
+
+ private:
+  TempDir tmp_;
+  KillLeftovers leftovers_;
+  std::string lines_, first_;
+};
+
+// Every report of a finished run is there and complete, with `names` in this
+// order; returns results.json (Gradescope's format, checked strictly).
+// `per_case`: the cases' own result.json too (`run` writes them, `merge`
+// reads them from the shards).
+JsonValue check_reports(const std::string& out, const std::vector<std::string>& names, bool per_case = true) {
+  const std::string txt = slurp(out + "/report.txt"), timing = slurp(out + "/timing.md"),
+                    html = slurp(out + "/report.html");
+  CHECK_THAT(txt, Contains("cases passed; score"));
+  CHECK_THAT(timing, StartsWith("# Timing"));
+  CHECK_THAT(html, StartsWith("<!DOCTYPE html>"));
+  CHECK_THAT(html, EndsWith("</html>\n"));
+  for (const std::string& n : names) {
+    INFO("case " << n);
+    CHECK_THAT(txt, Contains(" " + n + " "));
+    CHECK_THAT(timing, Contains("| " + n + " |"));
+    CHECK_THAT(html, Contains("id=\"" + n + "\""));
+    if (per_case) CHECK(parse_json_file(out + "/cases/" + n + "/result.json").at("name").string == n);
+  }
+  const JsonValue results = parse_json_file(out + "/results.json");
+  const auto& tests = results.at("tests").array;
+  REQUIRE(tests.size() == names.size());
+  double sum = 0;
+  for (size_t i = 0; i < tests.size(); ++i) {
+    CHECK(tests[i].at("name").string == "Part 1: " + names[i]);
+    CHECK(tests[i].at("max_score").number == kPoints);
+    sum += tests[i].at("score").number;
+  }
+  CHECK(results.at("score").number == Approx(sum));
+  return results;
+}
+
+const JsonValue& test_named(const JsonValue& results, const std::string& name) {
+  for (const JsonValue& t : results.at("tests").array)
+    if (t.at("name").string == "Part 1: " + name) return t;
+  FAIL("no test named " << name << " in results.json");
+  throw std::logic_error("unreachable");
+}
+
+// The case graded in `out` got the verdict its mode calls for.
+void check_case(const JsonValue& results, const std::string& out, const Mode& m) {
+  INFO("case " << m.name);
+  const JsonValue& t = test_named(results, m.name);
+  const std::string& output = t.at("output").string;
+  INFO("output: " << output);
+  CHECK(t.at("status").string == (m.passes ? "passed" : "failed"));
+  CHECK(t.at("score").number == (m.passes ? kPoints : 0));
+  CHECK_THAT(output, StartsWith(m.passes ? "passed: " : "failed: "));
+  CHECK_THAT(output, Contains(m.message));
+  const JsonValue c = parse_json_file(out + "/cases/" + m.name + "/result.json");
+  CHECK(c.at("verdict").string == (m.passes ? "passed" : "failed"));
+  CHECK_THAT(c.at("message").string, Contains(m.message));
+}
+
+// Grades the fake student in one mode on a case of its own: the run ends by
+// itself with exit code 1 (0 for a passing mode), every report is complete
+// and the case has the mode's verdict and message. Returns results.json.
+JsonValue grade_one_mode(Sandbox& sb, const std::string& name) {
+  const Mode& m = mode(name);
+  sb.add_case(m.name, m.timeout);
+  sb.make_references();
+  const std::string out = sb.path("out");
+  const Run g = sb.grade(m.name, out);
+  check_finished(g, m.passes ? 0 : 1);
+  CHECK(g.err == "");  // the grader reported no error of its own
+  const JsonValue results = check_reports(out, {m.name});
+  check_case(results, out, m);
+  CHECK(results.at("score").number == (m.passes ? kPoints : 0));
+  return results;
+}
+
+void check_no_survivors(const std::string& pids_file, size_t expected) {
+  const std::vector<Recorded> recorded = read_recorded(pids_file);
+  REQUIRE(recorded.size() == expected);  // every process of the fake said it was there
+  for (const Recorded& r : recorded) {
+    INFO("process " << r.pid << " of the fake student outlived the grader run");
+    CHECK(ends_within(r, 3));
+  }
+}
+
+}  // namespace
+
+// ---- One mode at a time ----
+
+TEST_CASE("good: a correct render passes with full marks") {
+  Sandbox sb;
+  grade_one_mode(sb, "good");
+}
+
+TEST_CASE("crash: failed, killed by signal 11") {
+  Sandbox sb;
+  grade_one_mode(sb, "crash");
+}
+
+TEST_CASE("hang: failed at the case timeout, the hung process and its child killed") {
+  Sandbox sb;
+  grade_one_mode(sb, "hang");
+  check_no_survivors(sb.pids(), 2);
+}
+
+TEST_CASE("fork_hang: the render passes, and no forked child or grandchild survives the run") {
+  Sandbox sb;
+  grade_one_mode(sb, "fork_hang");
+  check_no_survivors(sb.pids(), 3);
+}
+
+TEST_CASE("garbage: binary output is sanitised into valid JSON and escaped HTML") {
+  Sandbox sb;
+  const JsonValue results = grade_one_mode(sb, "garbage");
+  // The student's output reaches the report (sanitised), so the checks
+  // below look at text that is really there.
+  const std::string& output = test_named(results, "garbage").at("output").string;
+  CHECK_THAT(output, Contains("Output of the render:"));
+  CHECK_THAT(output, Contains("[stderr]"));
+  CHECK_THAT(output, Contains("<script>alert('fake')</script>"));
+  size_t unprintable = 0;
+  for (unsigned char c : output) unprintable += !(c == '\n' || c == '\t' || (c >= 0x20 && c < 0x7F));
+  CHECK(unprintable == 0);
+  const std::string html = slurp(sb.path("out") + "/report.html");
+  CHECK_THAT(html, Contains("&lt;script&gt;alert('fake')&lt;/script&gt;"));
+  CHECK_THAT(html, !Contains("<script>"));
+  const std::string txt = slurp(sb.path("out") + "/report.txt");
+  CHECK_THAT(txt, !Contains("\x1b"));
+}
+
+TEST_CASE("truncated_png: failed, unreadable PNG") {
+  Sandbox sb;
+  grade_one_mode(sb, "truncated_png");
+}
+
+TEST_CASE("nan: failed, the NaN and infinite pixels counted and the first located") {
+  Sandbox sb;
+  grade_one_mode(sb, "nan");
+}
+
+TEST_CASE("wrong_size: failed, the PNG's size against the case's") {
+  Sandbox sb;
+  grade_one_mode(sb, "wrong_size");
+}
+
+TEST_CASE("wrong_size_pfm: failed, the PFM's size against the case's") {
+  Sandbox sb;
+  grade_one_mode(sb, "wrong_size_pfm");
+}
+
+TEST_CASE("nothing: failed, no image") {
+  Sandbox sb;
+  grade_one_mode(sb, "nothing");
+}
+
+TEST_CASE("no_pfm: failed, no floating-point image") {
+  Sandbox sb;
+  grade_one_mode(sb, "no_pfm");
+}
+
+TEST_CASE("disk_fill: failed, killed at the file-size limit") {
+  Sandbox sb;
+  grade_one_mode(sb, "disk_fill");
+  // The limit stopped it: no file in the case's folder is over 1 MB.
+  for (const auto& e : fs::recursive_directory_iterator(sb.path("out/cases/disk_fill")))
+    if (e.is_regular_file()) CHECK(e.file_size() <= (1u << 20));
+}
+
+TEST_CASE("disk_fill_many: failed, the folder's total over the output limit") {
+  Sandbox sb;
+  grade_one_mode(sb, "disk_fill_many");
+}
+
+TEST_CASE("fifo: a named pipe for the image fails the case instead of blocking the grader") {
+  Sandbox sb;
+  grade_one_mode(sb, "fifo");
+}
+
+TEST_CASE("fifo_stats: a named pipe for the statistics is skipped, the render still passes") {
+  Sandbox sb;
+  grade_one_mode(sb, "fifo_stats");
+}
+
+TEST_CASE("huge_pfm: a PFM header claiming 60000 x 60000 pixels fails without a huge allocation") {
+  Sandbox sb;
+  grade_one_mode(sb, "huge_pfm");
+}
+
+TEST_CASE("exit3: failed, the exit status and the student's stderr reported") {
+  Sandbox sb;
+  const JsonValue results = grade_one_mode(sb, "exit3");
+  CHECK_THAT(test_named(results, "exit3").at("output").string, Contains("fake_student: giving up on purpose"));
+}
+
+// ---- All modes in one run ----
+
+TEST_CASE("every mode in one run with -j 2: each case judged on its own, every report complete") {
+  Sandbox sb;
+  std::vector<std::string> names;
+  double expected_total = 0;
+  for (const Mode& m : kModes) {
+    sb.add_case(m.name, m.timeout);
+    names.push_back(m.name);
+    expected_total += m.passes ? kPoints : 0;
+  }
+  sb.make_references();
+  const std::string out = sb.path("out");
+  const Run g = sb.grade("by_scene", out);
+  check_finished(g, 1);
+  CHECK(g.err == "");
+  const JsonValue results = check_reports(out, names);
+  for (const Mode& m : kModes) check_case(results, out, m);
+  CHECK(results.at("score").number == expected_total);
+  check_no_survivors(sb.pids(), 2 + 3);  // hang's two, fork_hang's three
+}
+
+// ---- Shards ----
+
+TEST_CASE("shards 1/2 and 2/2 merged give the unsharded run's cases, verdicts and total") {
+  Sandbox sb;
+  const std::vector<std::string> names = {"good", "crash", "nan", "exit3", "nothing"};
+  for (const std::string& n : names) sb.add_case(n, 20);
+  sb.make_references();
+  const std::string all = sb.path("all"), s1 = sb.path("shard1"), s2 = sb.path("shard2"), merged = sb.path("merged");
+  check_finished(sb.grade("by_scene", all), 1);
+  check_finished(sb.grade("by_scene", s1, {"--shard", "1/2"}), 1);
+  check_finished(sb.grade("by_scene", s2, {"--shard", "2/2"}), 1);
+  const Run m = run_program({grader_exe(), "merge", "-o", merged, "--cases", sb.cases(), s1, s2}, {});
+  check_finished(m, 1);
+
+  const auto verdicts = [](const JsonValue& results) {
+    std::map<std::string, std::pair<std::string, double>> v;
+    for (const JsonValue& t : results.at("tests").array)
+      v[t.at("name").string] = {t.at("status").string, t.at("score").number};
+    return v;
+  };
+  const JsonValue r_all = check_reports(all, names), r_merged = check_reports(merged, names, false);
+  const JsonValue r1 = parse_json_file(s1 + "/results.json"), r2 = parse_json_file(s2 + "/results.json");
+  const auto v1 = verdicts(r1), v2 = verdicts(r2);
+  // The shards split the cases: disjoint, and together all of them.
+  CHECK(v1.size() == 3);
+  CHECK(v2.size() == 2);
+  for (const auto& [name, v] : v1) CHECK(v2.count(name) == 0);
+  CHECK(verdicts(r_merged) == verdicts(r_all));
+  CHECK(r_merged.at("score").number == r_all.at("score").number);
+  CHECK(r_all.at("score").number == kPoints);  // only "good" passes
+  CHECK(r1.at("score").number + r2.at("score").number == r_all.at("score").number);
+}
+
+// ---- Usage errors: exit code 2 ----
+
+TEST_CASE("a case without a reference: exit 2, the case named, the other cases still graded") {
+  Sandbox sb;
+  sb.add_case("good", 20);
+  sb.add_case("orphan", 20);
+  sb.make_references("good");
+  const std::string out = sb.path("out");
+  const Run g = sb.grade("good", out);
+  check_finished(g, 2);
+  INFO(g.summary());
+  const std::string why = "no reference in " + sb.refs() + "/orphan (make it with: grader make-references --case orphan)";
+  CHECK_THAT(g.out, Contains(why));
+  const JsonValue results = check_reports(out, {"good", "orphan"});
+  CHECK(test_named(results, "good").at("status").string == "passed");
+  CHECK(test_named(results, "orphan").at("status").string == "failed");
+  CHECK_THAT(test_named(results, "orphan").at("output").string, StartsWith("error: " + why));
+  CHECK(parse_json_file(out + "/cases/orphan/result.json").at("verdict").string == "error");
+
+  SECTION("a reference made for another definition of the case is not usable either") {
+    pt::test::write_text(sb.cases(), "good 1 image 2 20 good.dae -r 16 12 -s 2\n");
+    const Run stale = sb.grade("good", sb.path("out_stale"));
+    check_finished(stale, 2);
+    CHECK_THAT(stale.out, Contains("was made for another definition of the case"));
+  }
+}
+
+TEST_CASE("a malformed case list: exit 2 and one line naming file:line, nothing graded") {
+  struct Bad {
+    const char* line;
+    const char* why;
+  };
+  const Bad bad[] = {
+      {"p1 1 image 2 20", "expected: name part kind points timeout scene [options...]"},
+      {"p1 1 picture 2 20 good.dae", "unknown kind 'picture' (image, rate, bvh-cost, shadow-cost, speedup)"},
+      {"p1 7 image 2 20 good.dae", "part must be 1..5"},
+      {"p1 1 image -2 20 good.dae", "points must be a number >= 0"},
+      {"p1 1 image 2 0 good.dae", "timeout must be seconds > 0"},
+      {"p1 1 image 2 abc good.dae", "timeout must be seconds > 0"},
+      {"good 1 image 2 20 good.dae", "duplicate case name 'good'"},
+      {"../escape 1 image 2 20 good.dae", "case name '../escape' must be letters, digits, _ or -"},
+      {"p1 1 image 2 20 good.dae -f x.png", "option -f is set by the grader, not the case"},
+  };
+  for (const Bad& b : bad) {
+    Sandbox sb;
+    pt::test::write_text(sb.cases(), "# header\ngood 1 image 2 20 good.dae -r 16 12\n" + std::string(b.line) + "\n");
+    const std::string out = sb.path("out");
+    const Run g = sb.grade("good", out);
+    INFO("case line: " << b.line);
+    check_finished(g, 2);
+    CHECK(g.err == "grader: " + sb.cases() + ":3: " + b.why + "\n");
+    CHECK_FALSE(fs::exists(out + "/results.json"));
+  }
+  SECTION("no case at all, or no file") {
+    Sandbox sb;
+    pt::test::write_text(sb.cases(), "# only comments\n\n");
+    const Run empty = sb.grade("good", sb.path("out"));
+    check_finished(empty, 2);
+    CHECK(empty.err == "grader: " + sb.cases() + ": no cases\n");
+    fs::remove(sb.cases());
+    const Run missing = sb.grade("good", sb.path("out"));
+    check_finished(missing, 2);
+    CHECK(missing.err == "grader: " + sb.cases() + ": cannot open the case list\n");
+  }
+}
+
+TEST_CASE("a pathtracer that is not an executable file: exit 2 before any case runs") {
+  Sandbox sb;
+  sb.add_case("good", 20);
+  sb.make_references();
+  const std::string not_executable = sb.path("not_executable");
+  pt::test::write_text(not_executable, "#!/bin/sh\nexit 0\n");
+  chmod(not_executable.c_str(), 0644);
+  int n = 0;
+  for (const std::string& binary : {std::string("/nonexistent/pathtracer"), sb.path("scenes"), not_executable}) {
+    INFO("--pathtracer " << binary);
+    const std::string out = sb.path("out" + std::to_string(++n));
+    const Run g = run_program({grader_exe(), "run", "--pathtracer", binary, "--cases", sb.cases(), "--references",
+                               sb.refs(), "--scenes", sb.scenes(), "-o", out},
+                              {});
+    check_finished(g, 2);
+    CHECK(g.err == "grader: " + binary + ": not an executable file\n");
+    CHECK(count_lines(g.err) == 1);
+    CHECK_FALSE(fs::exists(out + "/results.json"));
+  }
+}

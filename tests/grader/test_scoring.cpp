@@ -1,0 +1,167 @@
+// The grader's statistics and file formats, on synthetic data.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "case_list.h"
+#include "image_io.h"
+#include "json.h"
+#include "scoring.h"
+#include "support.h"
+
+using namespace grader;
+
+namespace {
+
+Image constant(int w, int h, float v) {
+  Image img(w, h, 3);
+  for (float& x : img.data) x = v;
+  return img;
+}
+
+// One "render": the mean plus Gaussian noise of the given variance.
+Image noisy(const Image& mean, double variance, double bias, std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, std::sqrt(variance));
+  Image img = mean;
+  for (float& x : img.data) x = float(x + bias + n(rng));
+  return img;
+}
+
+}  // namespace
+
+TEST_CASE("Sidak level and normal threshold match tabulated values", "[grader]") {
+  CHECK(sidak_level(0.01, 1) == Approx(0.01));
+  CHECK(sidak_level(0.01, 10000) == Approx(1.00503e-6).epsilon(1e-4));
+  CHECK(normal_two_sided_threshold(0.05) == Approx(1.959964).epsilon(1e-5));
+  CHECK(normal_two_sided_threshold(0.01) == Approx(2.575829).epsilon(1e-5));
+  CHECK(normal_two_sided_threshold(1e-6) == Approx(4.891638).epsilon(1e-5));
+}
+
+// alpha = 0.01 per image and test kind; 200 images; at most 6 failures
+// (P(Binomial(200, 0.01) > 6) < 0.005), seeded.
+TEST_CASE("Renders drawn from the reference distribution pass (false-failure rate)", "[grader]") {
+  const Image mean = constant(64, 48, 0.5f);
+  const Image var = constant(64, 48, 0.01f);
+  std::mt19937_64 rng(184);
+  int failures = 0;
+  for (int i = 0; i < 200; ++i) failures += !score_image(noisy(mean, 0.01, 0.0, rng), mean, var, 100000, {}).passed;
+  CHECK(failures <= 6);
+}
+
+TEST_CASE("A bias of one standard deviation is caught by the block test, not the pixel test", "[grader]") {
+  const Image mean = constant(64, 48, 0.5f);
+  const Image var = constant(64, 48, 0.01f);
+  std::mt19937_64 rng(7);
+  const ImageScore s = score_image(noisy(mean, 0.01, 0.1, rng), mean, var, 100000, {});
+  CHECK_FALSE(s.passed);
+  CHECK(s.blocks_failed > s.blocks_tested / 2);
+  // Per pixel a 1-sigma shift is invisible at a Sidak threshold near 4.8.
+  CHECK(s.channels_failed < s.channels_tested / 400);
+}
+
+TEST_CASE("Without the block test the same bias passes: the block test is what catches it", "[grader]") {
+  const Image mean = constant(64, 48, 0.5f);
+  const Image var = constant(64, 48, 0.01f);
+  std::mt19937_64 rng(7);
+  ScoreOptions o;
+  o.block_test = false;
+  CHECK(score_image(noisy(mean, 0.01, 0.1, rng), mean, var, 100000, o).passed);
+}
+
+TEST_CASE("A deterministic image tolerates a few edge pixels but not more", "[grader]") {
+  const Image mean = constant(100, 100, 0.25f);
+  const Image var = constant(100, 100, 0.0f);
+  ScoreOptions o;
+  o.block_test = false;
+  Image c = mean;
+  for (int i = 0; i < 20; ++i) c.at(i, 0, 0) = 1.0f;  // 20 of 30000 channels (0.07%)
+  CHECK(score_image(c, mean, var, 2, o).passed);
+  for (int i = 0; i < 100; ++i) c.at(i, 1, 1) = 1.0f;  // 120 of 30000 (0.4%)
+  CHECK_FALSE(score_image(c, mean, var, 2, o).passed);
+  // Within the floor (sd 0.01 at floor 1e-4) a float-rounding difference passes.
+  Image d = mean;
+  for (float& x : d.data) x += 1e-5f;
+  CHECK(score_image(d, mean, var, 2, o).channels_failed == 0);
+}
+
+TEST_CASE("A pixel whose reference variance is a hole takes its neighbours' variance", "[grader]") {
+  const Image mean = constant(16, 16, 0.1f);
+  Image var = constant(16, 16, 0.04f);
+  var.at(8, 8, 0) = 0.0f;  // a rare path never seen there by the reference renders
+  Image c = mean;
+  c.at(8, 8, 0) = 0.6f;    // 2.5 sigma of its neighbours: an ordinary draw
+  ScoreOptions o;
+  o.block_test = false;
+  const ImageScore s = score_image(c, mean, var, 100, o);
+  CHECK(s.channels_failed == 0);
+}
+
+TEST_CASE("relMSE of noise alone is near its expected value", "[grader]") {
+  const Image mean = constant(64, 48, 0.5f);
+  const Image var = constant(64, 48, 0.01f);
+  std::mt19937_64 rng(3);
+  const ImageScore s = score_image(noisy(mean, 0.01, 0.0, rng), mean, var, 100000, {});
+  CHECK(s.relmse == Approx(s.relmse_expected).epsilon(0.05));
+}
+
+TEST_CASE("Sample-rate colours decode back to the rate within one 8-bit step", "[grader]") {
+  Image rgb(101, 1, 3);
+  for (int i = 0; i <= 100; ++i) {
+    uint8_t c[3];
+    pt::rate_to_rgb(i / 100.0f, c);
+    for (int k = 0; k < 3; ++k) rgb.at(i, 0, k) = c[k];
+  }
+  const Image rate = rate_from_colors(rgb);
+  for (int i = 0; i <= 100; ++i) CHECK(rate.at(i, 0, 0) == Approx(i / 100.0).margin(1.0 / 255));
+}
+
+TEST_CASE("PFM images round-trip through the grader's top-row-first layout", "[grader]") {
+  pt::test::TempDir dir;
+  Image img(3, 2, 3);
+  for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = float(i) * 0.5f;
+  write_pfm_image(dir.file("a.pfm"), img);
+  const Image back = read_pfm_image(dir.file("a.pfm"));
+  REQUIRE(back.width == 3);
+  REQUIRE(back.height == 2);
+  CHECK(back.data == img.data);
+}
+
+TEST_CASE("JSON: values, escapes and errors with offsets", "[grader]") {
+  const Json j = parse_json(R"({"a": [1, 2.5, -3e2], "s": "x\"y\\n\u0041", "t": true, "n": null, "o": {"k": 1}})", "t");
+  CHECK(j.get("a")->array.size() == 3);
+  CHECK(j.get("a")->array[2].number == -300.0);
+  CHECK(j.str("s") == "x\"y\\nA");
+  CHECK(j.flag("t"));
+  CHECK(j.get("o")->num("k") == 1.0);
+  CHECK(j.num("missing", 7.0) == 7.0);
+  CHECK_THROWS_WITH(parse_json("{\"a\": }", "f.json"), Catch::Contains("f.json") && Catch::Contains("offset"));
+  CHECK_THROWS(parse_json("[1, 2", "f.json"));
+  CHECK(parse_json(json_quote("a\"b\n\x01"), "q").string == "a\"b\n\x01");
+  CHECK(json_number(std::nan("")) == "null");
+}
+
+TEST_CASE("The case list rejects malformed lines naming file and line", "[grader]") {
+  pt::test::TempDir dir;
+  const auto check = [&](const std::string& text, const std::string& expected) {
+    std::ofstream(dir.file("cases.txt")) << text;
+    CHECK_THROWS_WITH(read_cases(dir.file("cases.txt")), Catch::Contains("cases.txt:2") && Catch::Contains(expected));
+  };
+  const std::string ok = "a 1 image 1 30 CBempty.dae -r 16 12\n";
+  check(ok + "a 1 image 1 30 CBempty.dae\n", "duplicate");
+  check(ok + "b 1 shiny 1 30 CBempty.dae\n", "unknown kind");
+  check(ok + "b 6 image 1 30 CBempty.dae\n", "part");
+  check(ok + "b 1 image 1 30 CBempty.dae -f x.png\n", "set by the grader");
+  check(ok + "b 1 image 1\n", "expected");
+  check(ok + "b 1 image 1 -5 CBempty.dae\n", "timeout");
+}
+
+TEST_CASE("A case's digest changes with its options, so stale references are refused", "[grader]") {
+  pt::test::TempDir dir;
+  std::ofstream(dir.file("cases.txt")) << "a 3 image 1 30 CBempty.dae -s 4\nb 3 image 1 30 CBempty.dae -s 8\n";
+  const auto cases = read_cases(dir.file("cases.txt"));
+  REQUIRE(cases.size() == 2);
+  CHECK(case_digest(cases[0]) != case_digest(cases[1]));
+  CHECK(case_command(cases[0]) == "--part 3 -s 4 CBempty.dae");
+}

@@ -7,6 +7,7 @@
 # Environment (for testing outside Gradescope):
 #   AUTOGRADER_ROOT=DIR     instead of /autograder
 #   AUTOGRADER_SKIP_APT=1   do not install packages (they are there already)
+#   AUTOGRADER_GRADER_ONLY=1  build only the grader (grader/batch/grade_folder.sh)
 set -euo pipefail
 
 source_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -28,8 +29,10 @@ mkdir -p "$pt/bin"
 cp -R "$source_dir/project" "$pt/tree"
 
 cmake -S "$pt/tree" -B "$pt/build" -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_TESTS=OFF
-cmake --build "$pt/build" --target grader pathtracer -j "$jobs"
+targets=(grader pathtracer)
+[ "${AUTOGRADER_GRADER_ONLY:-0}" = 1 ] && targets=(grader)
+cmake --build "$pt/build" --target "${targets[@]}" -j "$jobs"
 # The grader lives outside the build folder submissions are built in.
 cp "$pt/build/bin/grader" "$pt/bin/grader"
 "$pt/bin/grader" --help >/dev/null
-echo "setup: grader in $pt/bin/grader; starter-kit build in $pt/build"
+echo "setup: grader in $pt/bin/grader; build folder $pt/build"

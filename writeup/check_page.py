@@ -52,7 +52,7 @@ PROBE = """<script>
 
 
 def find_chromium(explicit):
-    for c in ([explicit] if explicit else []) + ["/usr/bin/chromium", "chromium", "chromium-browser"]:
+    for c in [explicit] if explicit else ["/usr/bin/chromium", "chromium", "chromium-browser"]:
         p = shutil.which(c) if not os.path.isabs(c) else (c if os.access(c, os.X_OK) else None)
         if p:
             return p

@@ -80,6 +80,8 @@ chmod 755 "$stage/setup.sh" "$stage/run_autograder"
   echo "made: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
   echo "cases: $(grep -Ecv '^[[:space:]]*(#|$)' "$root/grader/cases.txt")"
   echo "cases without a reference: ${#missing[@]}"
+  # setup.sh checks the references unless some are missing on purpose.
+  [ ${#missing[@]} -eq 0 ] || echo "reference check: off"
 } >"$stage/VERSION"
 
 if [ -n "$unpacked" ]; then

@@ -4,7 +4,7 @@
 #   1. make_autograder.sh builds the zip; setup.sh and run_autograder are at
 #      its root and executable;
 #   2. its setup.sh (AUTOGRADER_SKIP_APT=1) builds the grader in a temporary
-#      AUTOGRADER_ROOT;
+#      AUTOGRADER_ROOT and checks the references (when the zip has them all);
 #   3. run_autograder grades the reference tree's stages/ on two fast cases:
 #      results.json parses and scores full marks;
 #   4. run_autograder grades a submission whose sphere.cpp does not compile:

@@ -26,8 +26,11 @@ namespace {
 
 // Partial credit for an image that fails the test: half the points when
 // its relMSE is at the noise level, falling linearly to none at 0.05 above
-// it. Structural failures (crash, missing or NaN output) score nothing.
+// it, and none at all when its mean radiance is off by more than 10 % (a
+// black image of a dim scene has a small relMSE, yet is simply wrong).
+// Structural failures (crash, missing or NaN output) score nothing.
 double partial_credit(const ImageScore& s, double points) {
+  if (std::fabs(s.mean_candidate - s.mean_reference) > 0.1 * std::fabs(s.mean_reference)) return 0.0;
   const double excess = std::max(0.0, s.relmse - s.relmse_expected);
   return 0.5 * points * std::clamp(1.0 - excess / 0.05, 0.0, 1.0);
 }

@@ -113,7 +113,7 @@ std::string timing_tables(const std::vector<CaseResult>& rs) {
       if (r.c.kind != CaseKind::Speedup && r.c.kind != CaseKind::BvhCost) continue;
       s << "| " << r.c.scene << " | " << opt("%.0f", r.triangles) << " | " << opt("%.3f", r.part1_seconds) << " | "
         << opt("%.3f", r.render_seconds) << " | " << (r.speedup < 0 ? "-" : fmt("%.0f×", r.speedup)) << " | "
-        << opt("%.2f", r.mrays_per_second) << " | " << opt("%.1f", r.tests_per_ray) << " |\n";
+        << opt("%.3g", r.mrays_per_second) << " | " << opt("%.1f", r.tests_per_ray) << " |\n";
     }
     s << "\n";
   }
@@ -123,7 +123,7 @@ std::string timing_tables(const std::vector<CaseResult>& rs) {
   for (const auto& r : rs)
     s << "| " << r.c.part << " | " << r.c.name << " | " << r.c.scene << " | " << opt("%.3f", r.render_seconds)
       << " | " << opt("%.3f", r.reference_seconds) << " | " << (r.speed_ratio < 0 ? "-" : fmt("%.2f×", r.speed_ratio))
-      << " | " << opt("%.2f", r.mrays_per_second) << " | " << opt("%.1f", r.tests_per_ray) << " | "
+      << " | " << opt("%.3g", r.mrays_per_second) << " | " << opt("%.1f", r.tests_per_ray) << " | "
       << fmt("%.2f", r.seconds) << " |\n";
   return s.str();
 }

@@ -14,9 +14,11 @@
 //    `min_pass_fraction` of the channels pass (a few pixels may sit on an
 //    edge or catch a firefly);
 //  - per 8x8 block and channel (Monte Carlo cases only): the mean of
-//    c - m over the block against its own standard error. A small bias that
-//    hides in per-pixel noise (a missing Russian-roulette division) shows in
-//    64-pixel averages; every block must pass.
+//    c - m over the block, each pixel's difference winsorised at +-3 of its
+//    standard deviations so that a lone firefly cannot decide it, against
+//    its standard error. A small bias that hides in per-pixel noise (a
+//    missing Russian-roulette division) shows in 64-pixel averages; every
+//    block must pass.
 // relMSE = mean (c - m)^2 / (m^2 + 0.01) is reported beside it, with the
 // value noise alone would give, for partial credit and for people.
 #pragma once
@@ -49,6 +51,7 @@ struct ScoreOptions {
   double variance_floor = 1e-4;      // on v (1 + 1/B)
   bool block_test = true;            // off for deterministic references
   int block_size = 8;
+  double block_clamp = 3.0;          // pixel differences winsorised at +-3 sigma
 };
 
 struct ImageScore {

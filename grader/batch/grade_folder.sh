@@ -53,7 +53,7 @@ while [ $# -gt 0 ]; do
 done
 [ ${#positional[@]} -eq 2 ] || { usage >&2; exit 2; }
 [[ "$parallel" =~ ^[1-9][0-9]*$ ]] || die "-j $parallel: expected a positive number"
-submissions=$(cd "${positional[0]}" 2>/dev/null && pwd) || die "${positional[0]}: no such folder"
+submissions=$(cd "${positional[0]}" 2>/dev/null && pwd -P) || die "${positional[0]}: no such folder"
 mkdir -p "${positional[1]}"
 out=$(cd "${positional[1]}" && pwd)
 ag=$out/.autograder

@@ -160,6 +160,7 @@ class Render:
     def __init__(self, **kw):
         self.__dict__.update(kw)
         self.job = None
+        self.rate = False
 
 
 class Recipes:
@@ -262,9 +263,10 @@ class Recipes:
         qsize = want_size(g["quick_size"], where, "quick_size") if "quick_size" in g else self.quick_size
         seed = want(g.get("seed", self.seed), int, where, "seed")
         columns = want(g.get("columns", 0), int, where, "columns")
+        rate = want(g.get("rate", False), bool, where, "rate")
         grid = {"kind": "grid", "id": gid, "title": want(g.get("title", gid), str, where, "title"),
                 "text": want(g.get("text", ""), str, where, "text"),
-                "rate": want(g.get("rate", False), bool, where, "rate"), "renders": []}
+                "rate": rate, "renders": []}
         if ("vary" in g) == ("cells" in g):
             raise InputError(f"{where}: give either 'vary' or 'cells'")
         names = set()
@@ -278,7 +280,7 @@ class Recipes:
             cells = []
             for val in values:
                 vals = [str(x) for x in val] if isinstance(val, list) else [str(val)]
-                cells.append({"label": f"{flag} {' '.join(vals)}", "name": slug(flag + "_".join(vals)),
+                cells.append({"label": f"{flag} {' '.join(vals)}", "name": slug(flag + "_" + "_".join(vals)),
                               "args": shlex.join([flag] + vals)})
         else:
             cells = want(g["cells"], list, where, "cells")
@@ -300,8 +302,9 @@ class Recipes:
             csize = want_size(c["size"], cw) if "size" in c else size
             cqsize = want_size(c["quick_size"], cw, "quick_size") if "quick_size" in c else qsize
             cseed = want(c.get("seed", seed), int, cw, "seed")
-            grid["renders"].append(self._render(cw, gid, name, label, c.get("scene", g.get("scene")),
-                                                flags, csize, cqsize, cseed))
+            r = self._render(cw, gid, name, label, c.get("scene", g.get("scene")), flags, csize, cqsize, cseed)
+            r.rate = rate
+            grid["renders"].append(r)
         grid["columns"] = columns if columns > 0 else min(len(grid["renders"]), 4 if not grid["rate"] else 2)
         return grid
 
@@ -764,7 +767,7 @@ def figure_info(r, img_dir_rel):
     info = {"grid": r.grid, "name": r.name, "label": r.label, "status": j.status,
             "command": shlex.join(out), "error": j.error,
             "image": f"{base}.png" if j.status != "failed" else None,
-            "rate_image": f"{base}_rate.png" if j.status != "failed" else None,
+            "rate_image": f"{base}_rate.png" if j.status != "failed" and r.rate else None,
             "render_seconds": j.stats.get("render_seconds") if j.stats else None,
             "wall_seconds": j.meta.get("wall_seconds") if j.meta else None,
             "threads": j.meta.get("threads") if j.meta else None,
@@ -1172,7 +1175,7 @@ def main(argv=None):
         if j.status == "failed":
             continue
         os.makedirs(os.path.join(img_dir, r.grid), exist_ok=True)
-        for src, dst in (("render.png", f"{r.name}.png"), ("render_rate.png", f"{r.name}_rate.png")):
+        for src, dst in (("render.png", f"{r.name}.png"),) + ((("render_rate.png", f"{r.name}_rate.png"),) if r.rate else ()):
             s = os.path.join(j.dir, src)
             if os.path.isfile(s):
                 shutil.copyfile(s, os.path.join(img_dir, r.grid, dst))

@@ -212,10 +212,10 @@ def test_cache(a):
 
         s = generate()
         check((s["rendered"], s["cached"]) == (3, 0), f"first run renders all 3 (got {s['rendered']} rendered)")
-        first = open(os.path.join(out, "img", "g", "l2.png"), "rb").read()
+        first = open(os.path.join(out, "img", "g", "l_2.png"), "rb").read()
         s = generate()
         check((s["rendered"], s["cached"]) == (0, 3), f"second run renders nothing ({s['rendered']} rendered)")
-        check(open(os.path.join(out, "img", "g", "l2.png"), "rb").read() == first, "the cached image is the same")
+        check(open(os.path.join(out, "img", "g", "l_2.png"), "rb").read() == first, "the cached image is the same")
         s = generate(extra="-s 2")
         check((s["rendered"], s["cached"]) == (1, 2), f"one changed recipe re-renders one ({s['rendered']} rendered)")
         s = generate(extra="-s 2")

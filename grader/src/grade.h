@@ -20,7 +20,7 @@ const char* verdict_name(Verdict v);
 struct CostBounds {
   double tests_per_ray_factor = 8.0;   // bvh-cost: tests per ray <= 8x the reference's
   double shadow_factor = 1.5;          // shadow-cost: shadow rays per query <= 1.5x
-  double min_speedup = 10.0;           // speedup: part 1 time / part 2 time
+  double min_speedup = 10.0;           // speedup: part 1 tests per ray / part 2's
 };
 
 struct CaseResult {

@@ -1044,8 +1044,8 @@ def main(argv=None):
                     help="figure recipes (default: writeup/figures.toml)")
     ap.add_argument("--pathtracer", default=os.path.join(ROOT, "build", "bin", "pathtracer"),
                     help="the pathtracer binary to render with (default: build/bin/pathtracer)")
-    ap.add_argument("--out", default=os.path.join(ROOT, "writeup", "out"),
-                    help="output folder for index.html, index.md and img/ (default: writeup/out)")
+    ap.add_argument("--out", help="output folder for index.html, index.md and img/ "
+                                  "(default: writeup/out, with --quick writeup/out/quick)")
     ap.add_argument("--cache", help="render cache folder (default: OUT/cache)")
     ap.add_argument("-t", "--threads", type=int, default=os.cpu_count() or 1,
                     help="total threads for all renders running at once (default: the number of CPUs)")
@@ -1090,7 +1090,7 @@ def main(argv=None):
 
     global BINARY_FOR_DISPLAY
     BINARY_FOR_DISPLAY = binary
-    out_dir = os.path.abspath(a.out)
+    out_dir = os.path.abspath(a.out or os.path.join(ROOT, "writeup", "out", "quick" if a.quick else ""))
     cache_dir = os.path.abspath(a.cache) if a.cache else os.path.join(out_dir, "cache")
     binary_hash = file_hash(binary)
 

@@ -790,7 +790,7 @@ nav ul { columns: 2; font-size: 0.95em; }
 .grid { display: grid; grid-template-columns: repeat(var(--cols), minmax(0, 1fr)); gap: 14px; }
 figure { margin: 0; background: #fff; border: 1px solid #ddd; border-radius: 6px; padding: 8px; }
 figure img { max-width: 100%; height: auto; display: block; margin: 0 auto; background: #000; }
-.quick figure img { width: 100%; image-rendering: pixelated; }
+.quick figure img { width: 100%; max-width: 320px; image-rendering: pixelated; }
 .pair { display: grid; grid-template-columns: 1fr 1fr; gap: 4px; }
 .pair span { font-size: 0.8em; color: #666; text-align: center; }
 figcaption { margin-top: 6px; font-size: 0.9em; }

@@ -17,8 +17,9 @@
 //    c - m over the block, each pixel's difference winsorised at +-3 of its
 //    standard deviations so that a lone firefly cannot decide it, against
 //    its standard error. A small bias that hides in per-pixel noise (a
-//    missing Russian-roulette division) shows in 64-pixel averages; every
-//    block must pass.
+//    missing Russian-roulette division) shows in 64-pixel averages; the
+//    image fails when two or more distinct blocks fail (one block alone is
+//    a lone outlier's doing, as calibration showed).
 // relMSE = mean (c - m)^2 / (m^2 + 0.01) is reported beside it, with the
 // value noise alone would give, for partial credit and for people.
 #pragma once
@@ -52,12 +53,14 @@ struct ScoreOptions {
   bool block_test = true;            // off for deterministic references
   int block_size = 8;
   double block_clamp = 3.0;          // pixel differences winsorised at +-3 sigma
+  int min_blocks_to_fail = 2;        // distinct blocks (any channel) that fail the image
 };
 
 struct ImageScore {
   bool passed = false;
   int channels_tested = 0, channels_failed = 0;
-  int blocks_tested = 0, blocks_failed = 0;
+  int blocks_tested = 0, blocks_failed = 0;  // (block, channel) pairs
+  int distinct_blocks_failed = 0;
   double pixel_threshold = 0, block_threshold = 0;  // |z| limits
   double max_block_z = 0;
   double relmse = 0, relmse_expected = 0;

@@ -165,3 +165,20 @@ TEST_CASE("A case's digest changes with its options, so stale references are ref
   CHECK(case_digest(cases[0]) != case_digest(cases[1]));
   CHECK(case_command(cases[0]) == "--part 3 -s 4 CBempty.dae");
 }
+
+TEST_CASE("One deviant block passes as a lone outlier, but two deviant blocks fail", "[grader]") {
+  const Image mean = constant(64, 48, 0.5f);
+  const Image var = constant(64, 48, 0.01f);
+  Image c = mean;
+  // Every pixel of block (0, 0) shifted by 1.5 sigma: block z = 12.
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) c.at(x, y, 0) += 0.15f;
+  ImageScore s = score_image(c, mean, var, 100000, {});
+  CHECK(s.distinct_blocks_failed == 1);
+  CHECK(s.passed);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 16; x < 24; ++x) c.at(x, y, 1) += 0.15f;
+  s = score_image(c, mean, var, 100000, {});
+  CHECK(s.distinct_blocks_failed == 2);
+  CHECK_FALSE(s.passed);
+}

@@ -3,8 +3,10 @@
 
     tools/make_starter_kit.py DEST
 
-Copies every file of the repository (as git lists it; without .git and
-.ci) to DEST, replacing each region
+Copies every file of the repository (as git lists it; without .git, .ci
+and the instructors' grading tools: the Gradescope packaging, batch
+grading and the mutant table, which only make sense in the reference tree)
+to DEST, replacing each region
 
     // BEGIN SOLUTION
     // STUB: <code>          (any number of these, optional)
@@ -29,6 +31,8 @@ import tempfile
 BEGIN = re.compile(r"^(\s*)// BEGIN SOLUTION\s*$")
 END = re.compile(r"^\s*// END SOLUTION\s*$")
 STUB = re.compile(r"^\s*// STUB: ?(.*)$")
+# Left out of the kit: CI, and tools that act on the reference tree.
+INSTRUCTOR_ONLY = (".ci/", "grader/gradescope/", "grader/batch/", "grader/grade_mutants.sh")
 MIN_LEAK_LENGTH = 12  # shorter lines ("}", "return L;") prove nothing
 
 
@@ -75,7 +79,8 @@ def tracked_files(root):
         for dirpath, dirnames, filenames in os.walk(root):
             dirnames[:] = [d for d in dirnames if d not in (".git", "build") and not d.startswith("build")]
             files += [os.path.relpath(os.path.join(dirpath, f), root) for f in filenames]
-    return sorted(f for f in files if not f.startswith(".ci/") and os.path.isfile(os.path.join(root, f)))
+    return sorted(f for f in files
+                  if not f.startswith(INSTRUCTOR_ONLY) and os.path.isfile(os.path.join(root, f)))
 
 
 def is_text(path):

@@ -154,6 +154,7 @@ int exit_code_for(const std::vector<CaseResult>& results) {
 
 int command_run(const Common& common, const std::string& out, uint64_t seed, bool quiet) {
   const auto t0 = std::chrono::steady_clock::now();
+  const std::string started = utc_now();
   const std::vector<Case> cases = common.select();
   common.check_binary();
   fs::create_directories(out + "/cases");
@@ -191,7 +192,7 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
   });
   RunInfo info;
   info.pathtracer = fs::absolute(common.pathtracer).string();
-  info.started = utc_now();
+  info.started = started;
   info.wall_seconds = seconds_since(t0);
   info.jobs = common.jobs;
   info.threads = common.threads;

@@ -250,7 +250,7 @@ std::string git_commit() {
   return s;
 }
 
-int command_make_references(const Common& common, int runs, bool force, const std::string& work) {
+int command_make_references(const Common& common, int runs, bool force, int retime, const std::string& work) {
   const std::vector<Case> cases = common.select();
   common.check_binary();
   MakeSettings ms;
@@ -266,7 +266,8 @@ int command_make_references(const Common& common, int runs, bool force, const st
   int failures = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
     std::string message;
-    const bool ok = make_reference(common.references, cases[i], ms, &message);
+    const bool ok = retime > 0 ? retime_reference(common.references, cases[i], ms, retime, &message)
+                               : make_reference(common.references, cases[i], ms, &message);
     failures += !ok;
     std::printf("[%2zu/%zu] %-24s %s%s\n", i + 1, cases.size(), cases[i].name.c_str(), ok ? "" : "FAILED: ",
                 message.c_str());
@@ -418,6 +419,10 @@ int main(int argc, char** argv) {
   make->add_option("--runs", runs, "Independent renders per case")->check(CLI::Range(2, 100000))->capture_default_str();
   make->add_flag("--force", force, "Remake references that already match their case");
   make->add_option("--work", work, "Scratch folder")->capture_default_str();
+  int retime = 0;
+  make->add_option("--retime", retime,
+                   "Only re-measure the recorded render times: median of N renders, one at a time (-j ignored)")
+      ->check(CLI::Range(1, 1000));
 
   CLI::App* calibrate = app.add_subcommand("calibrate", "Grade the reference build at many seeds: false-failure rates");
   common.add_to(calibrate, true);
@@ -445,7 +450,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*run) return command_run(common, out, seed, quiet);
-    if (*make) return command_make_references(common, runs, force, work);
+    if (*make) return command_make_references(common, runs, force, retime, work);
     if (*calibrate) return command_calibrate(common, seeds, first_seed, table, work + "/calibrate");
     if (*merge) return command_merge(common, out, shard_dirs);
   } catch (const std::exception& e) {

@@ -219,4 +219,74 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
   return true;
 }
 
+namespace {
+
+// meta.json is a flat object: numbers, strings and booleans.
+std::string flat_json(const Json& j) {
+  std::string out = "{\n";
+  size_t i = 0;
+  for (const auto& [key, v] : j.object) {
+    out += "  " + json_quote(key) + ": ";
+    if (v.type == Json::Type::String) out += json_quote(v.string);
+    else if (v.type == Json::Type::Bool) out += v.boolean ? "true" : "false";
+    else if (v.type == Json::Type::Number) out += json_number(v.number);
+    else out += "null";
+    out += ++i < j.object.size() ? ",\n" : "\n";
+  }
+  return out + "}\n";
+}
+
+}  // namespace
+
+bool retime_reference(const std::string& root, const Case& c, const MakeSettings& s, int runs, std::string* message) {
+  Reference ref;
+  if (!load_reference(root, c, &ref, message)) return false;
+  std::vector<double> seconds, render_seconds;
+  double part1 = 0;
+  for (int i = 0; i < runs; ++i) {
+    const std::string dir = s.work_dir + "/" + c.name + "_time";
+    RenderOutput out = render_case(s.run, c, c.part, s.first_seed + uint64_t(i), dir, false);
+    if (!out.ok || !out.has_stats) {
+      *message = "timing run failed: " + (out.ok ? std::string("no statistics") : out.failure);
+      return false;
+    }
+    seconds.push_back(out.seconds);
+    render_seconds.push_back(out.stats.num("render_seconds", 0));
+  }
+  if (c.kind == CaseKind::Speedup) {
+    RenderOutput p1 = render_case(s.run, c, 1, s.first_seed, s.work_dir + "/" + c.name + "_part1", false);
+    if (!p1.ok || !p1.has_stats) {
+      *message = "timing run of --part 1 failed: " + (p1.ok ? std::string("no statistics") : p1.failure);
+      return false;
+    }
+    part1 = p1.stats.num("render_seconds", 0);
+  }
+  Json& meta = ref.meta;
+  const auto set_number = [&](const char* key, double v) {
+    Json n;
+    n.type = Json::Type::Number;
+    n.number = v;
+    meta.object[key] = n;
+  };
+  set_number("process_seconds_median", median(seconds));
+  set_number("render_seconds_median", median(render_seconds));
+  set_number("timing_runs", runs);
+  if (c.kind == CaseKind::Speedup) set_number("part1_render_seconds", part1);
+  Json date;
+  date.type = Json::Type::String;
+  date.string = utc_now();
+  meta.object["timing_date"] = date;
+  try {
+    const std::string text = flat_json(meta);
+    pt::write_file_atomically(root + "/" + c.name + "/meta.json", std::vector<uint8_t>(text.begin(), text.end()));
+  } catch (const std::exception& e) {
+    *message = e.what();
+    return false;
+  }
+  char buf[120];
+  std::snprintf(buf, sizeof buf, "render %.4f s (median of %d)", median(render_seconds), runs);
+  *message = buf;
+  return true;
+}
+
 }  // namespace grader

@@ -254,14 +254,19 @@ class Recipes:
         self.renders.append(r)
         return r
 
+    def _shared_fields(self, x, where):
+        """The fields grids and tables share: args, size, quick_size, seed."""
+        base = parse_flags(x.get("args", ""), where)
+        size = want_size(x["size"], where) if "size" in x else self.size
+        qsize = want_size(x["quick_size"], where, "quick_size") if "quick_size" in x else self.quick_size
+        seed = want(x.get("seed", self.seed), int, where, "seed")
+        return base, size, qsize, seed
+
     def _grid(self, g, ids, where):
         gid = self._id(g, ids, where, "grid")
         where = f"{self.display}: grid '{gid}'"
         check_keys(g, GRID_KEYS, where)
-        base = parse_flags(g.get("args", ""), where)
-        size = want_size(g["size"], where) if "size" in g else self.size
-        qsize = want_size(g["quick_size"], where, "quick_size") if "quick_size" in g else self.quick_size
-        seed = want(g.get("seed", self.seed), int, where, "seed")
+        base, size, qsize, seed = self._shared_fields(g, where)
         columns = want(g.get("columns", 0), int, where, "columns")
         rate = want(g.get("rate", False), bool, where, "rate")
         grid = {"kind": "grid", "id": gid, "title": want(g.get("title", gid), str, where, "title"),
@@ -312,10 +317,7 @@ class Recipes:
         tid = self._id(t, ids, where, "table")
         where = f"{self.display}: table '{tid}'"
         check_keys(t, TABLE_KEYS, where)
-        base = parse_flags(t.get("args", ""), where)
-        size = want_size(t["size"], where) if "size" in t else self.size
-        qsize = want_size(t["quick_size"], where, "quick_size") if "quick_size" in t else self.quick_size
-        seed = want(t.get("seed", self.seed), int, where, "seed")
+        base, size, qsize, seed = self._shared_fields(t, where)
         threads = t.get("threads")
         if threads is not None and (not isinstance(threads, int) or threads < 1):
             raise InputError(f"{where}: 'threads' must be a positive integer")

@@ -14,6 +14,7 @@
 #include "collada.h"
 #include "global_illumination.h"
 #include "image_io.h"
+#include "json_text.h"
 #include "pixel_sampling.h"
 #include "render_loop.h"
 #include "shading.h"
@@ -123,26 +124,6 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
   return result;
 }
 
-namespace {
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-}  // namespace
 
 std::string stats_json(const Scene& scene, const RenderOptions& opts, const RenderResult& r, double load_seconds) {
   const double rays = double(r.stats.rays());
@@ -171,7 +152,7 @@ std::string stats_json(const Scene& scene, const RenderOptions& opts, const Rend
                 (unsigned long long)r.stats.primitive_tests, (unsigned long long)r.stats.node_visits,
                 r.seconds > 0 ? rays / r.seconds * 1e-6 : 0.0, per_ray(r.stats.primitive_tests),
                 per_ray(r.stats.node_visits));
-  return "{\n  \"scene\": " + json_string(opts.scene_path) + ",\n" + buf;
+  return "{\n  \"scene\": " + json_quote(opts.scene_path) + ",\n" + buf;
 }
 
 int run_render_job(const RenderOptions& opts) {

@@ -21,8 +21,6 @@ const char* kind_name(CaseKind kind) {
   return "?";
 }
 
-namespace {
-
 bool parse_kind(const std::string& s, CaseKind* kind) {
   for (CaseKind k : {CaseKind::Image, CaseKind::Rate, CaseKind::BvhCost, CaseKind::ShadowCost, CaseKind::Speedup}) {
     if (s == kind_name(k)) {
@@ -32,6 +30,8 @@ bool parse_kind(const std::string& s, CaseKind* kind) {
   }
   return false;
 }
+
+namespace {
 
 bool parse_double(const std::string& s, double* out) {
   try {

@@ -26,6 +26,8 @@ struct Case {
 };
 
 const char* kind_name(CaseKind kind);
+// The kind named `s` ("image", "rate", ...); false when there is none.
+bool parse_kind(const std::string& s, CaseKind* kind);
 
 // Reads the case file. Throws std::runtime_error("<path>:<line>: <what>")
 // on any malformed line, unknown kind or duplicate name.

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "image_io.h"
+#include "text.h"
 
 namespace grader {
 
@@ -70,12 +71,6 @@ std::vector<unsigned char> error_map_bytes(const std::vector<float>& z, int w, i
   return rgb;
 }
 
-std::string fmt(const char* f, double a) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, f, a);
-  return buf;
-}
-
 std::string join_command(const Case& c, int part, uint64_t seed) {
   std::string s = "pathtracer --part " + std::to_string(part);
   for (const std::string& o : c.options) s += " " + o;
@@ -115,8 +110,7 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   if (!out.ok) return fail(out.failure);
   if (out.has_stats) {
     r.render_seconds = out.stats.num("render_seconds", -1);
-    const double rays = out.stats.num("rays", 0);
-    if (rays > 0) r.tests_per_ray = out.stats.num("primitive_tests", 0) / rays;
+    if (out.stats.num("rays", 0) > 0) r.tests_per_ray = stat_ratio(out.stats, "primitive_tests", "rays");
     r.mrays_per_second = out.stats.num("mrays_per_second", -1);
     r.triangles = out.stats.num("triangles", -1);
     if (r.render_seconds > 0 && r.reference_seconds > 0) r.speed_ratio = r.render_seconds / r.reference_seconds;
@@ -192,7 +186,7 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
       problems.push_back("no ray counts (--stats-json stats.json)");
       credit = 0;
     } else {
-      const double ratio = out.stats.num("shadow_queries", 0) / out.stats.num("closest_queries", 1);
+      const double ratio = stat_ratio(out.stats, "shadow_queries", "closest_queries");
       r.metric += fmt("; %.2f shadow rays per hit query", ratio) + fmt(" (ref %.2f)", ref_ratio);
       if (ratio > bounds.shadow_factor * ref_ratio) {
         problems.push_back(fmt("%.2f shadow rays per closest-hit query, ", ratio) +
@@ -216,7 +210,7 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
       // The verdict rests on the work saved (intersection tests per ray),
       // which no machine load can change; the time speed-up of a render
       // of a few milliseconds is shown but is too noisy to fail anyone on.
-      const double p1_tests = p1.stats.num("primitive_tests", 0) / std::max(1.0, p1.stats.num("rays", 1));
+      const double p1_tests = stat_ratio(p1.stats, "primitive_tests", "rays");
       const double work_ratio = p1_tests / r.tests_per_ray;
       r.speedup = r.part1_seconds / r.render_seconds;
       r.metric += fmt("; BVH speed-up %.0fx", r.speedup) + fmt(" (%.0fx fewer tests per ray)", work_ratio);
@@ -276,9 +270,7 @@ bool case_result_from_json(const Json& j, CaseResult* r) {
   if (j.type != Json::Type::Object || j.str("name").empty()) return false;
   r->c.name = j.str("name");
   r->c.part = int(j.num("part", 0));
-  const std::string kind = j.str("kind");
-  for (CaseKind k : {CaseKind::Image, CaseKind::Rate, CaseKind::BvhCost, CaseKind::ShadowCost, CaseKind::Speedup})
-    if (kind == kind_name(k)) r->c.kind = k;
+  parse_kind(j.str("kind"), &r->c.kind);
   r->c.scene = j.str("scene");
   const std::string v = j.str("verdict");
   r->verdict = v == "passed" ? Verdict::Passed : v == "failed" ? Verdict::Failed : Verdict::Error;

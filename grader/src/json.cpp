@@ -174,30 +174,53 @@ Json read_json_file(const std::string& path) {
   return parse_json(ss.str(), path);
 }
 
-std::string json_quote(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (c == '\n') {
-      out += "\\n";
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(static_cast<unsigned char>(c)));
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
 std::string json_number(double v) {
   if (!std::isfinite(v)) return "null";
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
+}
+
+std::string flat_json(const Json& j) {
+  std::string out = "{\n";
+  size_t i = 0;
+  for (const auto& [key, v] : j.object) {
+    out += "  " + json_quote(key) + ": ";
+    if (v.type == Json::Type::String) out += json_quote(v.string);
+    else if (v.type == Json::Type::Bool) out += v.boolean ? "true" : "false";
+    else if (v.type == Json::Type::Number) out += json_number(v.number);
+    else out += "null";
+    out += ++i < j.object.size() ? ",\n" : "\n";
+  }
+  return out + "}\n";
+}
+
+namespace {
+Json& member(Json* object, const std::string& key) {
+  object->type = Json::Type::Object;
+  return object->object[key];
+}
+}  // namespace
+
+void set_number(Json* object, const std::string& key, double v) {
+  Json& m = member(object, key);
+  m = Json();
+  m.type = Json::Type::Number;
+  m.number = v;
+}
+
+void set_string(Json* object, const std::string& key, const std::string& v) {
+  Json& m = member(object, key);
+  m = Json();
+  m.type = Json::Type::String;
+  m.string = v;
+}
+
+void set_bool(Json* object, const std::string& key, bool v) {
+  Json& m = member(object, key);
+  m = Json();
+  m.type = Json::Type::Bool;
+  m.boolean = v;
 }
 
 }  // namespace grader

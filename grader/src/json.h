@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "json_text.h"
+
 namespace grader {
 
 struct Json {
@@ -28,10 +30,16 @@ struct Json {
 Json parse_json(const std::string& text, const std::string& what);
 Json read_json_file(const std::string& path);
 
-// "text" with quotes and escapes.
-std::string json_quote(const std::string& s);
+using pt::json_quote;  // "text" with quotes and escapes
 // A number as JSON: finite values printed with up to 9 significant digits,
 // NaN and infinities as null (JSON has no spelling for them).
 std::string json_number(double v);
+// A flat object (numbers, strings, booleans; anything else as null), one
+// member per line, keys in order: how meta.json files are written.
+std::string flat_json(const Json& j);
+// Builders for such objects.
+void set_number(Json* object, const std::string& key, double v);
+void set_string(Json* object, const std::string& key, const std::string& v);
+void set_bool(Json* object, const std::string& key, bool v);
 
 }  // namespace grader

@@ -9,7 +9,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -22,11 +21,11 @@
 #include "image_io.h"
 #include "reference.h"
 #include "reports.h"
+#include "text.h"
 
 namespace fs = std::filesystem;
 using namespace grader;
 
-std::string fmt_seconds(double s);  // "42 s", "3.5 min"
 
 namespace {
 
@@ -37,13 +36,6 @@ std::string executable_dir() {
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
   return ec ? std::string(".") : self.parent_path().string();
-}
-
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -137,10 +129,6 @@ void parallel_for(int n, int jobs, F task) {
       for (int i; (i = next.fetch_add(1)) < n;) task(i);
     });
   for (auto& t : pool) t.join();
-}
-
-void write_text(const std::string& path, const std::string& text) {
-  pt::write_file_atomically(path, std::vector<uint8_t>(text.begin(), text.end()));
 }
 
 int exit_code_for(const std::vector<CaseResult>& results) {
@@ -460,9 +448,3 @@ int main(int argc, char** argv) {
   return kUsageError;
 }
 
-std::string fmt_seconds(double s) {
-  char buf[32];
-  if (s < 120) std::snprintf(buf, sizeof buf, "%.0f s", s);
-  else std::snprintf(buf, sizeof buf, "%.1f min", s / 60);
-  return buf;
-}

@@ -4,14 +4,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <filesystem>
 #include <mutex>
-#include <sstream>
 #include <thread>
 #include <vector>
 
-#include "image_io.h"
+#include "text.h"
 
 namespace grader {
 
@@ -80,20 +78,6 @@ double median(std::vector<double> v) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
-}
-
-// What a cost check compares: intersection tests per ray, and shadow rays
-// per closest-hit query (camera rays and bounces).
-double stat_ratio(const Json& stats, const char* num, const char* den) {
-  const double d = stats.num(den, 0);
-  return d > 0 ? stats.num(num, 0) / d : 0.0;
 }
 
 }  // namespace
@@ -187,27 +171,24 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
     for (double v : radiance.mean) mean_radiance += v;
     mean_radiance /= std::max<size_t>(1, radiance.mean.size());
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::ostringstream js;
-    js << "{\n"
-       << "  \"case\": " << json_quote(c.name) << ",\n"
-       << "  \"digest\": " << json_quote(case_digest(c)) << ",\n"
-       << "  \"command\": " << json_quote("pathtracer " + case_command(c) + " -t " + std::to_string(s.run.threads)) << ",\n"
-       << "  \"runs\": " << radiance.n << ",\n"
-       << "  \"deterministic\": " << (deterministic ? "true" : "false") << ",\n"
-       << "  \"first_seed\": " << s.first_seed << ",\n"
-       << "  \"commit\": " << json_quote(s.commit) << ",\n"
-       << "  \"date\": " << json_quote(utc_now()) << ",\n"
-       << "  \"making_seconds\": " << json_number(wall) << ",\n"
-       << "  \"process_seconds_median\": " << json_number(median(seconds)) << ",\n"
-       << "  \"render_seconds_median\": " << json_number(median(render_seconds)) << ",\n"
-       << "  \"tests_per_ray\": " << json_number(median(tests_per_ray)) << ",\n"
-       << "  \"shadow_per_query\": " << json_number(median(shadow_per_query)) << ",\n"
-       << "  \"part1_render_seconds\": " << json_number(part1_seconds) << ",\n"
-       << "  \"part1_tests_per_ray\": " << json_number(part1_tests_per_ray) << ",\n"
-       << "  \"mean_radiance\": " << json_number(mean_radiance) << "\n"
-       << "}\n";
-    const std::string text = js.str();
-    pt::write_file_atomically(dir + "/meta.json", std::vector<uint8_t>(text.begin(), text.end()));
+    Json meta;
+    set_string(&meta, "case", c.name);
+    set_string(&meta, "digest", case_digest(c));
+    set_string(&meta, "command", "pathtracer " + case_command(c) + " -t " + std::to_string(s.run.threads));
+    set_number(&meta, "runs", radiance.n);
+    set_bool(&meta, "deterministic", deterministic);
+    set_number(&meta, "first_seed", double(s.first_seed));
+    set_string(&meta, "commit", s.commit);
+    set_string(&meta, "date", utc_now());
+    set_number(&meta, "making_seconds", wall);
+    set_number(&meta, "process_seconds_median", median(seconds));
+    set_number(&meta, "render_seconds_median", median(render_seconds));
+    set_number(&meta, "tests_per_ray", median(tests_per_ray));
+    set_number(&meta, "shadow_per_query", median(shadow_per_query));
+    set_number(&meta, "part1_render_seconds", part1_seconds);
+    set_number(&meta, "part1_tests_per_ray", part1_tests_per_ray);
+    set_number(&meta, "mean_radiance", mean_radiance);
+    write_text(dir + "/meta.json", flat_json(meta));
   } catch (const std::exception& e) {
     *message = e.what();
     return false;
@@ -218,25 +199,6 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
   *message = buf;
   return true;
 }
-
-namespace {
-
-// meta.json is a flat object: numbers, strings and booleans.
-std::string flat_json(const Json& j) {
-  std::string out = "{\n";
-  size_t i = 0;
-  for (const auto& [key, v] : j.object) {
-    out += "  " + json_quote(key) + ": ";
-    if (v.type == Json::Type::String) out += json_quote(v.string);
-    else if (v.type == Json::Type::Bool) out += v.boolean ? "true" : "false";
-    else if (v.type == Json::Type::Number) out += json_number(v.number);
-    else out += "null";
-    out += ++i < j.object.size() ? ",\n" : "\n";
-  }
-  return out + "}\n";
-}
-
-}  // namespace
 
 bool retime_reference(const std::string& root, const Case& c, const MakeSettings& s, int runs, std::string* message) {
   Reference ref;
@@ -262,23 +224,13 @@ bool retime_reference(const std::string& root, const Case& c, const MakeSettings
     part1 = p1.stats.num("render_seconds", 0);
   }
   Json& meta = ref.meta;
-  const auto set_number = [&](const char* key, double v) {
-    Json n;
-    n.type = Json::Type::Number;
-    n.number = v;
-    meta.object[key] = n;
-  };
-  set_number("process_seconds_median", median(seconds));
-  set_number("render_seconds_median", median(render_seconds));
-  set_number("timing_runs", runs);
-  if (c.kind == CaseKind::Speedup) set_number("part1_render_seconds", part1);
-  Json date;
-  date.type = Json::Type::String;
-  date.string = utc_now();
-  meta.object["timing_date"] = date;
+  set_number(&meta, "process_seconds_median", median(seconds));
+  set_number(&meta, "render_seconds_median", median(render_seconds));
+  set_number(&meta, "timing_runs", runs);
+  if (c.kind == CaseKind::Speedup) set_number(&meta, "part1_render_seconds", part1);
+  set_string(&meta, "timing_date", utc_now());
   try {
-    const std::string text = flat_json(meta);
-    pt::write_file_atomically(root + "/" + c.name + "/meta.json", std::vector<uint8_t>(text.begin(), text.end()));
+    write_text(root + "/" + c.name + "/meta.json", flat_json(meta));
   } catch (const std::exception& e) {
     *message = e.what();
     return false;

@@ -8,16 +8,11 @@
 
 #include "image_io.h"
 #include "json.h"
+#include "text.h"
 
 namespace grader {
 
 namespace {
-
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
 
 // "-" for figures that were not measured.
 std::string opt(const char* f, double v) { return v < 0 ? "-" : fmt(f, v); }
@@ -71,10 +66,6 @@ std::string html_escape(const std::string& s) {
     }
   }
   return out;
-}
-
-void write_text(const std::string& path, const std::string& text) {
-  pt::write_file_atomically(path, std::vector<uint8_t>(text.begin(), text.end()));
 }
 
 }  // namespace

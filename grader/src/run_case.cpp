@@ -32,6 +32,11 @@ int case_int_option(const Case& c, const std::string& flag, int fallback) {
   return fallback;
 }
 
+double stat_ratio(const Json& stats, const char* num, const char* den) {
+  const double d = stats.num(den, 0);
+  return d > 0 ? stats.num(num, 0) / d : 0.0;
+}
+
 namespace {
 
 std::string log_excerpt(const std::string& dir) {

@@ -39,6 +39,10 @@ void case_resolution(const Case& c, int* width, int* height);
 // The integer after `flag` in a case's options, or `fallback`.
 int case_int_option(const Case& c, const std::string& flag, int fallback);
 
+// stats[num] / stats[den] of a --stats-json object; 0 when den is 0 or
+// missing (tests per ray: "primitive_tests" / "rays").
+double stat_ratio(const Json& stats, const char* num, const char* den);
+
 // Renders `c` with --part `part` and seed `seed` into `dir` (created,
 // emptied first). Never throws: every problem becomes `failure`.
 RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t seed, const std::string& dir,

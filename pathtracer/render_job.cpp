@@ -12,6 +12,7 @@
 #include "brute_force.h"
 #include "adaptive_sampling.h"
 #include "collada.h"
+#include "cost_splitting_intersector.h"
 #include "global_illumination.h"
 #include "image_io.h"
 #include "json_text.h"
@@ -74,7 +75,8 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
   } else {
     geometry = std::make_unique<BruteForceIntersector>(scene);
   }
-  const Intersector& isect = *geometry;
+  const CostSplittingIntersector counted(*geometry);
+  const Intersector& isect = counted;
 
   // Part 3: emission plus one bounce of direct light. Part 4: paths of up
   // to -m bounces with Russian roulette.
@@ -140,6 +142,7 @@ std::string stats_json(const Scene& scene, const RenderOptions& opts, const Rend
                 "  \"bvh_leaves\": %zu,\n  \"bvh_depth\": %d,\n  \"bvh_sah_cost\": %.4f,\n"
                 "  \"render_seconds\": %.6f,\n  \"rays\": %llu,\n  \"closest_queries\": %llu,\n"
                 "  \"shadow_queries\": %llu,\n  \"primitive_tests\": %llu,\n  \"node_visits\": %llu,\n"
+                "  \"shadow_primitive_tests\": %llu,\n  \"shadow_node_visits\": %llu,\n"
                 "  \"mrays_per_second\": %.4f,\n  \"tests_per_ray\": %.4f,\n  \"nodes_per_ray\": %.4f\n"
                 "}\n",
                 opts.part, opts.width, opts.height, opts.samples_per_pixel,
@@ -150,6 +153,7 @@ std::string stats_json(const Scene& scene, const RenderOptions& opts, const Rend
                 r.used_bvh ? r.bvh.sah_cost : 0.0, r.seconds, (unsigned long long)r.stats.rays(),
                 (unsigned long long)r.stats.closest_queries, (unsigned long long)r.stats.shadow_queries,
                 (unsigned long long)r.stats.primitive_tests, (unsigned long long)r.stats.node_visits,
+                (unsigned long long)r.stats.shadow_primitive_tests, (unsigned long long)r.stats.shadow_node_visits,
                 r.seconds > 0 ? rays / r.seconds * 1e-6 : 0.0, per_ray(r.stats.primitive_tests),
                 per_ray(r.stats.node_visits));
   return "{\n  \"scene\": " + json_quote(opts.scene_path) + ",\n" + buf;

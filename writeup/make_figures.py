@@ -10,9 +10,12 @@ within the -t thread budget, and writes OUT/index.html and OUT/index.md
 of its command line, of the binary's bytes and of the scene file's bytes,
 so a second run renders only what changed. See writeup/README.md.
 
-Exit status: 0 when every render succeeded, 1 when some failed (the page
-is still written and shows them), 2 for bad input (recipes, binary,
-options).
+Exit status: 0 when every render succeeded and no figure is flagged; 1
+when some render failed (the page is still written and shows them); 2 for
+bad input (recipes, binary, options); 3 when every render ran but some
+figure is flagged: the renderer printed a "TODO:" line for it (a function
+not written yet) or its image is all black (the page shows which and why).
+A failed render takes precedence: 1 even if some figure is flagged too.
 """
 
 import argparse
@@ -26,9 +29,11 @@ import re
 import shlex
 import shutil
 import signal
+import struct
 import subprocess
 import sys
 import time
+import zlib
 
 try:
     import tomllib
@@ -57,8 +62,8 @@ SETTINGS_KEYS = {"title", "scenes_dir", "size", "seed", "quick_size",
                  "quick_max_samples", "quick_max_light_samples"}
 SECTION_KEYS = {"id", "title", "text", "grid", "table"}
 GRID_KEYS = {"id", "title", "text", "scene", "args", "size", "quick_size", "seed",
-             "columns", "rate", "vary", "cells"}
-CELL_KEYS = {"label", "name", "scene", "args", "size", "quick_size", "seed"}
+             "columns", "rate", "vary", "cells", "expect_black"}
+CELL_KEYS = {"label", "name", "scene", "args", "size", "quick_size", "seed", "expect_black"}
 VARY_KEYS = {"flag", "values"}
 TABLE_KEYS = {"id", "title", "text", "scene", "scenes", "args", "size", "quick_size",
               "seed", "threads", "exclusive", "variants", "columns"}
@@ -161,6 +166,7 @@ class Render:
         self.__dict__.update(kw)
         self.job = None
         self.rate = False
+        self.expect_black = False
 
 
 class Recipes:
@@ -227,9 +233,10 @@ class Recipes:
 
     def _render(self, where, gid, name, label, scene, flags, size, quick_size, seed, threads=None, exclusive=False):
         scene_path = self._scene(scene, where)
+        quick_exclusive = False
         if self.quick:
             # Quick renders are checks, not timings: no render needs to run alone.
-            exclusive = False
+            quick_exclusive, exclusive = exclusive, False
             size = (min(size[0], quick_size[0]), min(size[1], quick_size[1]))
             s = get_flag(flags, "-s")
             if s is not None and int(s[0]) > self.quick_max_samples:
@@ -250,7 +257,8 @@ class Recipes:
                     raise InputError(f"{where}: {flag} file not found: {v[0]}")
                 flags = set_flag(flags, flag, [os.path.abspath(p)])
         r = Render(where=where, grid=gid, name=name, label=label, scene=scene_path,
-                   flags=flags, size=size, seed=seed, threads=threads, exclusive=exclusive)
+                   flags=flags, size=size, seed=seed, threads=threads, exclusive=exclusive,
+                   quick_exclusive=quick_exclusive)
         self.renders.append(r)
         return r
 
@@ -262,6 +270,12 @@ class Recipes:
         seed = want(x.get("seed", self.seed), int, where, "seed")
         return base, size, qsize, seed
 
+    def _expect_black(self, value, where):
+        """A recipe's expect_black (true, false or "quick") as a yes or no for this run."""
+        if value not in (True, False, "quick"):
+            raise InputError(f"{where}: 'expect_black' must be true, false or \"quick\", got {value!r}")
+        return value is True or (value == "quick" and self.quick)
+
     def _grid(self, g, ids, where):
         gid = self._id(g, ids, where, "grid")
         where = f"{self.display}: grid '{gid}'"
@@ -269,6 +283,8 @@ class Recipes:
         base, size, qsize, seed = self._shared_fields(g, where)
         columns = want(g.get("columns", 0), int, where, "columns")
         rate = want(g.get("rate", False), bool, where, "rate")
+        black = g.get("expect_black", False)
+        self._expect_black(black, where)
         grid = {"kind": "grid", "id": gid, "title": want(g.get("title", gid), str, where, "title"),
                 "text": want(g.get("text", ""), str, where, "text"),
                 "rate": rate, "renders": []}
@@ -309,6 +325,7 @@ class Recipes:
             cseed = want(c.get("seed", seed), int, cw, "seed")
             r = self._render(cw, gid, name, label, c.get("scene", g.get("scene")), flags, csize, cqsize, cseed)
             r.rate = rate
+            r.expect_black = self._expect_black(c.get("expect_black", black), cw)
             grid["renders"].append(r)
         grid["columns"] = columns if columns > 0 else min(len(grid["renders"]), 4 if not grid["rate"] else 2)
         return grid
@@ -461,6 +478,7 @@ class Job:
         self.threads = 1
         self.tmp = None
         self.cpu = None
+        self.checks = None      # render_checks() of a finished render
 
 
 class Scheduler:
@@ -525,11 +543,15 @@ class Scheduler:
                     job.stats = json.load(f)
             except (OSError, ValueError) as e:
                 error = f"unreadable --stats-json output: {e}"
+        if error is None:
+            job.checks = render_checks(job.tmp)
         job.meta = {"argv": [display_path(self.display_binary)] + job.argv[1:-1] + [display_path(job.argv[-1])],
                     "threads": job.threads, "wall_seconds": round(wall, 3),
                     "cpu_seconds": round(job.cpu, 3) if job.cpu is not None else None,
                     "date": datetime.datetime.now().isoformat(timespec="seconds"),
                     "recipe": job.proto.where}
+        if job.checks is not None:
+            job.meta["checks"] = job.checks  # kept with the cache entry: a cache hit is flagged alike
         if error is not None:
             job.status, job.error = "failed", error
             failed_dir = os.path.join(self.cache_dir, "failed", job.key)
@@ -616,6 +638,184 @@ def last_line(path):
         if "error" in l.lower():
             return l
     return lines[-1] if lines else ""
+
+
+# ---------------------------------------------------------------------------
+# Checking a finished render: TODO lines in its log, an all-black image
+
+TODO_LINE = re.compile(r"(?<![A-Za-z0-9_])TODO:")
+
+
+def todo_lines(log_path):
+    """The distinct 'TODO: ...' lines of a render's log, in order. A starter-kit
+    build prints one the first time it reaches a function not written yet, and
+    keeps rendering (black or wrong images, exit status 0)."""
+    try:
+        with open(log_path, "rb") as f:
+            text = f.read().decode("utf-8", "replace")
+    except OSError:
+        return []
+    out = []
+    for line in text.splitlines():
+        m = TODO_LINE.search(line)
+        if m:
+            line = line[m.start():].strip()
+            if line not in out:
+                out.append(line)
+    return out
+
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+PNG_CHANNELS = {0: 1, 2: 3, 3: 1, 4: 2, 6: 4}   # colour type -> samples per pixel
+# Adam7 passes: first column, first row, column step, row step.
+ADAM7 = ((0, 0, 8, 8), (4, 0, 8, 8), (0, 4, 4, 8), (2, 0, 4, 4), (0, 2, 2, 4), (1, 0, 2, 2), (0, 1, 1, 2))
+
+
+def png_unfilter(ftype, row, prev, step):
+    """Undo one scanline's PNG filter in place (prev: the previous scanline, already unfiltered)."""
+    n = len(row)
+    if ftype == 0:
+        return
+    if ftype == 1:
+        for i in range(step, n):
+            row[i] = (row[i] + row[i - step]) & 255
+    elif ftype == 2:
+        for i in range(n):
+            row[i] = (row[i] + prev[i]) & 255
+    elif ftype == 3:
+        for i in range(n):
+            a = row[i - step] if i >= step else 0
+            row[i] = (row[i] + ((a + prev[i]) >> 1)) & 255
+    elif ftype == 4:
+        for i in range(n):
+            a = row[i - step] if i >= step else 0
+            b = prev[i]
+            c = prev[i - step] if i >= step else 0
+            p = a + b - c
+            pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+            row[i] = (row[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+    else:
+        raise ValueError(f"unknown PNG filter type {ftype}")
+
+
+def png_is_black(path):
+    """True when every pixel of the PNG is 0 in every colour channel (alpha is not
+    a colour), False when some pixel is not. Reads any valid PNG (all colour
+    types and bit depths, interlaced or not) with zlib alone; raises ValueError
+    for a file it cannot read."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != PNG_SIGNATURE:
+        raise ValueError("not a PNG file")
+    pos, ihdr, palette, idat = 8, None, None, []
+    while pos + 12 <= len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if len(body) != length:
+            raise ValueError("truncated PNG chunk")
+        pos += 12 + length
+        if kind == b"IHDR" and length == 13:
+            ihdr = struct.unpack(">IIBBBBB", body)
+        elif kind == b"PLTE":
+            palette = body
+        elif kind == b"IDAT":
+            idat.append(body)
+        elif kind == b"IEND":
+            break
+    if ihdr is None:
+        raise ValueError("PNG without a header (IHDR)")
+    width, height, depth, colour, _, _, interlace = ihdr
+    channels = PNG_CHANNELS.get(colour)
+    if (channels is None or depth not in (1, 2, 4, 8, 16) or (depth < 8 and colour not in (0, 3))
+            or (depth == 16 and colour == 3) or interlace > 1):
+        raise ValueError(f"unsupported PNG (colour type {colour}, bit depth {depth}, interlace {interlace})")
+    if colour == 3 and not palette:
+        raise ValueError("palette PNG without a palette (PLTE)")
+    try:
+        raw = zlib.decompress(b"".join(idat))
+    except zlib.error as e:
+        raise ValueError(f"bad PNG image data: {e}")
+    bits = channels * depth
+    step = max(1, bits // 8)                       # the filters' byte distance
+    colour_bytes = (3 if colour in (2, 6) else 1) * max(1, depth // 8)
+    used = set()                                   # palette indices seen
+    pos = 0
+    for x0, y0, dx, dy in (ADAM7 if interlace else ((0, 0, 1, 1),)):
+        pw = (width - x0 + dx - 1) // dx if width > x0 else 0
+        ph = (height - y0 + dy - 1) // dy if height > y0 else 0
+        if pw == 0 or ph == 0:
+            continue
+        stride = (pw * bits + 7) // 8
+        prev = bytearray(stride)
+        for _ in range(ph):
+            if pos + 1 + stride > len(raw):
+                raise ValueError("PNG image data too short")
+            ftype = raw[pos]
+            row = bytearray(raw[pos + 1:pos + 1 + stride])
+            pos += 1 + stride
+            if any(row) or any(prev) or ftype > 4:     # a zero row after a zero row stays zero
+                png_unfilter(ftype, row, prev, step)
+            prev = row
+            if colour == 3:
+                if depth == 8:
+                    used.update(row)
+                else:
+                    mask = (1 << depth) - 1
+                    used.update((row[(i * depth) >> 3] >> (8 - depth - (i * depth) % 8)) & mask for i in range(pw))
+            elif depth < 8:
+                full, rest = divmod(pw * depth, 8)
+                if any(row[:full]) or (rest and row[full] >> (8 - rest)):
+                    return False
+            elif any(any(row[o::step]) for o in range(colour_bytes)):
+                return False
+    if colour == 3:
+        for i in used:
+            if 3 * i + 3 > len(palette):
+                raise ValueError(f"palette index {i} outside the palette")
+            if any(palette[3 * i:3 * i + 3]):
+                return False
+    return True
+
+
+def render_checks(entry):
+    """What a finished render's files say about it: the TODO lines of its log,
+    whether its image is all black, and why the image could not be read."""
+    checks = {"todo": todo_lines(os.path.join(entry, "log.txt")), "black": False, "image_error": None}
+    try:
+        checks["black"] = png_is_black(os.path.join(entry, "render.png"))
+    except (OSError, ValueError) as e:
+        checks["image_error"] = str(e)
+    return checks
+
+
+def render_problems(r):
+    """Why a finished figure needs a look, as (kind, text) pairs: "todo" (a line
+    the renderer printed), "black" (every pixel 0, unless the recipe expects
+    it), "image" (the PNG could not be read). Empty for a good figure."""
+    c = r.job.checks if r.job.status in ("ok", "cached") else None
+    if not c:
+        return []
+    out = [("todo", line) for line in c.get("todo") or []]
+    if c.get("black") and not r.expect_black:
+        out.append(("black", "the image is all black (every pixel 0)"))
+    if c.get("image_error"):
+        out.append(("image", f"the image could not be read: {c['image_error']}"))
+    return out
+
+
+def problem_text(kind, text):
+    return f"the renderer printed '{text}'" if kind == "todo" else text
+
+
+def problem_html(kind, text):
+    if kind == "todo":
+        return f"the renderer printed <code class=\"inline\">{html.escape(text)}</code>"
+    return html.escape(text)
+
+
+def problem_md(kind, text):
+    text = text.replace("|", "\\|")
+    return f"the renderer printed `{text}`" if kind == "todo" else text
 
 
 def fmt_duration(s):
@@ -773,7 +973,9 @@ def figure_info(r, img_dir_rel):
             "render_seconds": j.stats.get("render_seconds") if j.stats else None,
             "wall_seconds": j.meta.get("wall_seconds") if j.meta else None,
             "threads": j.meta.get("threads") if j.meta else None,
-            "cached": j.status == "cached"}
+            "cached": j.status == "cached",
+            "expect_black": r.expect_black,
+            "flags": [{"kind": k, "text": t} for k, t in render_problems(r)]}
     return info
 
 
@@ -801,6 +1003,13 @@ figcaption .time { color: #666; float: right; }
 figcaption code, pre { display: block; font-size: 11px; white-space: pre-wrap; word-break: break-all;
                       background: #f1f1ef; padding: 4px 6px; margin-top: 4px; border-radius: 3px; }
 figure.failed { border-color: #d08080; }
+.warnings, .warning { background: #fff0d0; border: 1px solid #d09030; padding: 8px 12px; border-radius: 6px;
+                      color: #6a3d00; }
+.warning { padding: 4px 8px; margin-bottom: 6px; font-size: 0.85em; }
+.warning ul, .warnings ul { margin: 2px 0; padding-left: 1.2em; }
+.warning code, .warnings code { word-break: break-all; }
+figure.flagged { border: 2px solid #d09030; }
+table.stats td.flagged { background: #fff0d0; }
 .placeholder { aspect-ratio: 4 / 3; background: #fbe3e3; color: #900; display: flex; align-items: center;
                justify-content: center; text-align: center; padding: 8px; font-size: 0.9em; }
 table.stats { border-collapse: collapse; background: #fff; font-size: 0.9em; margin: 8px 0; }
@@ -825,7 +1034,8 @@ def write_page(out_dir, recipes, jobs, summary, img_rel="img"):
                 f"`{summary['recipes']}`, {summary['date']}: {summary['renders']} figures, "
                 f"{summary['distinct_renders']} distinct renders, {summary['rendered']} of them rendered by this "
                 f"run in {fmt_duration(summary['wall_seconds'])} with {summary['thread_budget']} thread(s), "
-                f"{summary['cached']} from the cache, {summary['failed']} failed. "
+                f"{summary['cached']} from the cache, {summary['failed']} failed, "
+                f"{summary['flagged']} figure(s) flagged for checking. "
                 + time_text(summary))
     h.append(f"<p class=\"meta\">{inline_md(run_text)}</p>\n")
     md.append(f"# {title}\n\n{run_text}\n\n")
@@ -844,6 +1054,22 @@ def write_page(out_dir, recipes, jobs, summary, img_rel="img"):
             h.append(f"<li><a href=\"#{html.escape(j.renders[0].grid)}\">{html.escape(names)}</a>: "
                      f"{html.escape(j.error)}</li>\n")
             md.append(f"- {names}: {j.error}\n")
+        h.append("</ul></div>\n")
+        md.append("\n")
+    flagged = [(r, render_problems(r)) for r in recipes.renders]
+    flagged = [(r, p) for r, p in flagged if p]
+    if flagged:
+        intro = ("These renders ran to the end, but the renderer printed a TODO line (a function it has not "
+                 "written yet) or wrote an all-black image, so the figure is likely not what the write-up "
+                 "should show.")
+        h.append(f"<div class=\"warnings\" id=\"flagged\"><b>Figures to check ({len(flagged)})</b>: "
+                 f"{html.escape(intro)}<ul>\n")
+        md.append(f"**Figures to check ({len(flagged)}):** {intro}\n\n")
+        for r, problems in flagged:
+            name = f"{r.grid}/{r.name}"
+            h.append(f"<li><a href=\"#{html.escape(r.grid)}\">{html.escape(name)}</a>: "
+                     + "; ".join(problem_html(k, t) for k, t in problems) + "</li>\n")
+            md.append(f"- ⚠ {name}: " + "; ".join(problem_md(k, t) for k, t in problems) + "\n")
         h.append("</ul></div>\n")
         md.append("\n")
     h.append("<nav><ul>\n")
@@ -902,7 +1128,7 @@ def write_page(out_dir, recipes, jobs, summary, img_rel="img"):
     h.append("<p>Per render: <i>render</i> is the renderer's own render time (without loading the scene and "
              "building the BVH); <i>wall</i> the whole process and <i>CPU</i> its user + system time, as "
              "measured by the generator when it ran; cached renders show the times of the run that made "
-             "them.</p>\n")
+             "them. Status <i>check</i>: the render is flagged (see the list at the head of the page).</p>\n")
     h.append("<table class=\"stats\" id=\"render-times\">\n<tr><th>figure</th><th>status</th>"
              "<th>render s</th><th>wall s</th><th>CPU s</th><th>threads</th><th>rendered</th></tr>\n")
     md.append("| figure | status | render s | wall s | CPU s | threads | rendered |\n|---|---|---:|---:|---:|---:|---|\n")
@@ -913,9 +1139,9 @@ def write_page(out_dir, recipes, jobs, summary, img_rel="img"):
         cs = j.meta.get("cpu_seconds") if j.meta else None
         th = j.meta.get("threads") if j.meta else None
         when = "failed" if j.status == "failed" else ("cached" if j.status == "cached" else "this run")
-        ok = "failed" if j.status == "failed" else "ok"
+        ok = "failed" if j.status == "failed" else ("check" if render_problems(r) else "ok")
         h.append(f"<tr><td><a href=\"#{r.grid}\">{html.escape(r.grid + '/' + r.name)}</a></td>"
-                 f"<td class=\"{'failed' if ok == 'failed' else ''}\">{ok}</td>"
+                 f"<td class=\"{'failed' if ok == 'failed' else ('flagged' if ok == 'check' else '')}\">{ok}</td>"
                  f"<td class=\"num\">{fmt_value('render_seconds', rs)}</td>"
                  f"<td class=\"num\">{fmt_value('wall_seconds', ws)}</td>"
                  f"<td class=\"num\">{fmt_value('cpu_seconds', cs)}</td>"
@@ -977,14 +1203,24 @@ def page_grid(grid, h, md, figures, img_rel):
             if grid["rate"]:
                 img = (f"<div class=\"pair\">{img}<a href=\"{f['rate_image']}\"><img src=\"{f['rate_image']}\" "
                        f"alt=\"{label}: sampling rate\"></a><span>render</span><span>sampling rate</span></div>")
-            h.append(f"<figure data-status=\"ok\">{img}\n")
+            problems = render_problems(r)
+            if problems:
+                kinds = " ".join(dict.fromkeys(k for k, _ in problems))
+                h.append(f"<figure class=\"flagged\" data-status=\"ok\" data-flagged=\"{kinds}\">"
+                         f"<div class=\"warning\"><b>⚠ Check this figure:</b><ul>"
+                         + "".join(f"<li>{problem_html(k, t)}</li>" for k, t in problems)
+                         + f"</ul></div>{img}\n")
+            else:
+                h.append(f"<figure data-status=\"ok\">{img}\n")
             rs = f["render_seconds"]
             timing = (f"{fmt_value('render_seconds', rs)} s, {f['threads']} thread{'s' if f['threads'] != 1 else ''}"
                       if rs is not None else "")
             imgs_md = f"![{f['label']}]({f['image']})"
             if grid["rate"]:
                 imgs_md += f" ![{f['label']}: sampling rate]({f['rate_image']})"
-            cells_md.append(f"{imgs_md}<br>**{f['label']}** ({timing})<br>`{f['command']}`")
+            warn_md = ("**⚠ Check this figure:** " + "; ".join(problem_md(k, t) for k, t in problems) + "<br>"
+                       if problems else "")
+            cells_md.append(f"{warn_md}{imgs_md}<br>**{f['label']}** ({timing})<br>`{f['command']}`")
         h.append(f"<figcaption><span class=\"label\">{label}</span> <span class=\"time\">{html.escape(timing)}</span>"
                  f"<code>{html.escape(f['command'])}</code></figcaption></figure>\n")
     h.append("</div>\n")
@@ -996,34 +1232,83 @@ def page_grid(grid, h, md, figures, img_rel):
     md.append("\n")
 
 
+def table_flagged(table):
+    """Rows of yes/no for a table's cells: whether a render the cell reads is flagged."""
+    out = []
+    for row in table["rows"]:
+        cells = [False]
+        for c in table["columns"]:
+            names = [c.get("variant", table["variants"][0])] if "field" in c else c["ratio"][1:]
+            cells.append(any(render_problems(row["renders"][v]) for v in names))
+        out.append(cells)
+    return out
+
+
+def table_conditions(table):
+    """How a table's renders ran, from the renders themselves: size, threads, alone or not."""
+    rs = [r for row in table["rows"] for r in row["renders"].values() if r.job.status != "failed"]
+    if not rs:
+        return ""
+    sizes = sorted({r.size for r in rs})
+    threads = sorted({r.job.meta["threads"] for r in rs if r.job.meta and r.job.meta.get("threads")})
+    text = "Rendered at " + ", ".join(f"{w} × {h}" for w, h in sizes)
+    if threads:
+        n = f"{threads[0]}" if len(threads) == 1 else f"{threads[0]} to {threads[-1]}"
+        text += f", on {n} thread{'s' if threads[-1] != 1 else ''} each"
+    if all(r.exclusive for r in rs):
+        text += ", each render alone (no other render of the generator running beside it)."
+    else:
+        text += (", beside other renders of the generator"
+                 + (" (--quick does not run timing renders alone)" if any(r.quick_exclusive for r in rs) else "")
+                 + ": the times are rougher.")
+    return text
+
+
 def page_table(table, h, md, tables):
     heads = ["scene"] + [c["title"] for c in table["columns"]]
     rows = table_cells(table)
+    marks = table_flagged(table)
     tables.append({"id": table["id"], "title": table["title"], "columns": heads,
                    "rows": [[t for t, _ in row] for row in rows],
                    "numeric": [[n for _, n in row] for row in rows]})
     h.append(f"<table class=\"stats\" id=\"table-{table['id']}\">\n<tr>"
              + "".join(f"<th>{html.escape(x)}</th>" for x in heads) + "</tr>\n")
-    for row in rows:
+    for row, flags in zip(rows, marks):
         h.append("<tr>" + "".join(
-            f"<td class=\"{'num' if n else ('failed' if t == 'failed' else '')}\">{html.escape(t)}</td>"
-            for t, n in row) + "</tr>\n")
+            f"<td class=\"{'num' if n else ('failed' if t == 'failed' else '')}{' flagged' if x else ''}\">"
+            f"{html.escape(t)}</td>"
+            for (t, n), x in zip(row, flags)) + "</tr>\n")
     h.append("</table>\n")
     md.append("| " + " | ".join(heads) + " |\n|---|" + "---:|" * (len(heads) - 1) + "\n")
-    for row in rows:
-        md.append("| " + " | ".join(t for t, _ in row) + " |\n")
+    for row, flags in zip(rows, marks):
+        md.append("| " + " | ".join(t + (" ⚠" if x else "") for (t, _), x in zip(row, flags)) + " |\n")
     md.append("\n")
     cmds = []
     errors = []
+    checks = []
     for row in table["rows"]:
         for r in row["renders"].values():
             f = figure_info(r, "img")
             cmds.append(f["command"])
             if f["status"] == "failed":
                 errors.append(f"{row['scene']}, {r.label}: {f['error']}")
+            problems = render_problems(r)
+            if problems:
+                checks.append((r, problems))
+    conditions = table_conditions(table)
+    if conditions:
+        h.append(f"<p class=\"meta\">{html.escape(conditions)}</p>\n")
+        md.append(f"{conditions}\n\n")
     for e in errors:
         h.append(f"<p class=\"errors\">render failed: {html.escape(e)}</p>\n")
         md.append(f"- render failed: {e}\n")
+    for r, problems in checks:
+        h.append(f"<p class=\"warning\" data-flagged=\"{' '.join(dict.fromkeys(k for k, _ in problems))}\">"
+                 f"<b>⚠ Check</b> {html.escape(r.label)}: "
+                 + "; ".join(problem_html(k, t) for k, t in problems) + "</p>\n")
+        md.append(f"- ⚠ Check {r.label}: " + "; ".join(problem_md(k, t) for k, t in problems) + "\n")
+    if errors or checks:
+        md.append("\n")
     h.append(f"<details><summary>The {len(cmds)} commands</summary><pre>"
              + html.escape("\n".join(cmds)) + "</pre></details>\n")
     md.append("<details><summary>The commands</summary>\n\n```\n" + "\n".join(cmds) + "\n```\n\n</details>\n\n")
@@ -1125,6 +1410,9 @@ def main(argv=None):
                     j.stats = json.load(f)
                 if os.path.isfile(os.path.join(entry, "render.png")):
                     j.status, j.dir = "cached", entry
+                    j.checks = j.meta.get("checks")
+                    if not isinstance(j.checks, dict):  # an entry made before the checks were kept
+                        j.checks = render_checks(entry)
                     continue
             except (OSError, ValueError):
                 j.meta = j.stats = None
@@ -1183,13 +1471,15 @@ def main(argv=None):
                 shutil.copyfile(s, os.path.join(img_dir, r.grid, dst))
 
     failed = [j for j in jobs if j.status == "failed"]
+    flagged = [(r, render_problems(r)) for r in recipes.renders]
+    flagged = [(r, p) for r, p in flagged if p]
     summary = {
         "binary": display_path(binary), "binary_sha256": binary_hash,
         "recipes": recipes.display, "quick": recipes.quick,
         "date": datetime.datetime.now().strftime("%Y-%m-%d %H:%M"),
         "renders": len(recipes.renders), "distinct_renders": len(jobs),
         "rendered": len(pending), "cached": len(jobs) - len(pending), "failed": len(failed),
-        "wall_seconds": round(wall, 2), "thread_budget": a.threads,
+        "flagged": len(flagged), "wall_seconds": round(wall, 2), "thread_budget": a.threads,
     }
     wt, cpu = job_times(jobs)
     summary["wall_thread_seconds"] = round(wt, 1)
@@ -1216,10 +1506,15 @@ def main(argv=None):
         names = ", ".join(f"{r.grid}/{r.name}" for r in j.renders)
         sys.stderr.write(f"{PROG}: error: render {names} ({j.proto.where}) failed: {j.error}; "
                          f"log: {display_path(os.path.join(j.dir, 'log.txt'))}\n")
+    for r, problems in flagged:
+        sys.stderr.write(f"{PROG}: warning: figure {r.grid}/{r.name} ({r.where}) needs checking: "
+                         + "; ".join(problem_text(k, t) for k, t in problems)
+                         + f"; log: {display_path(os.path.join(r.job.dir, 'log.txt'))}\n")
     print(f"{PROG}: {summary['renders']} figures, {summary['distinct_renders']} distinct renders: "
           f"{summary['rendered']} rendered, {summary['cached']} cached, {summary['failed']} failed, "
-          f"in {fmt_duration(wall)}; page: {display_path(os.path.join(out_dir, 'index.html'))}")
-    return 1 if failed else 0
+          f"{summary['flagged']} figure(s) flagged, in {fmt_duration(wall)}; "
+          f"page: {display_path(os.path.join(out_dir, 'index.html'))}")
+    return 1 if failed else (3 if flagged else 0)
 
 
 if __name__ == "__main__":

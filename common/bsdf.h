@@ -16,11 +16,7 @@ inline Color bsdf_f(const Material& m, const Vec3& wo, const Vec3& wi) {
   (void)wo;
   (void)wi;
   if (m.type == MaterialType::Emission) return Color(0.0f);
-#ifdef PT_MUTANT_albedo_not_over_pi
-  return m.albedo;  // the 1/pi is missing
-#else
   return m.albedo * kInvPi;
-#endif
 }
 
 // Samples wi for outgoing wo: cosine-weighted about the normal. Returns f

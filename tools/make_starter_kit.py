@@ -32,7 +32,8 @@ BEGIN = re.compile(r"^(\s*)// BEGIN SOLUTION\s*$")
 END = re.compile(r"^\s*// END SOLUTION\s*$")
 STUB = re.compile(r"^\s*// STUB: ?(.*)$")
 # Left out of the kit: CI, and tools that act on the reference tree.
-INSTRUCTOR_ONLY = (".ci/", "grader/gradescope/", "grader/batch/", "grader/grade_mutants.sh")
+INSTRUCTOR_ONLY = (".ci/", "grader/gradescope/", "grader/batch/", "grader/grade_mutants.sh", "grader/mutants/",
+                   "grader/mutants.txt", "grader/tables/mutants.md")
 MIN_LEAK_LENGTH = 12  # shorter lines ("}", "return L;") prove nothing
 
 

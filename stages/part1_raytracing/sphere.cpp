@@ -22,11 +22,7 @@ bool intersect_sphere(const Sphere& s, Ray& r, Hit* hit) {
   // Numerically stable pair of roots (no cancellation in either).
   const double q = b > 0 ? -(b + root) : -(b - root);
   double t1 = q / a, t2 = q != 0.0 ? c / q : t1;
-#ifdef PT_MUTANT_sphere_far_root
-  if (t1 < t2) std::swap(t1, t2);  // sorted the wrong way: the far root is tried first
-#else
   if (t1 > t2) std::swap(t1, t2);
-#endif
   double t;
   if (t1 >= r.min_t && t1 <= r.max_t)
     t = t1;

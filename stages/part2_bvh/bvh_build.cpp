@@ -19,7 +19,19 @@ struct PrimInfo {
   Vec3 centroid() const { return (lo + hi) * 0.5f; }
 };
 
+// BEGIN SOLUTION
 constexpr int kMedianDepth = 96;
+
+// The bin of a centroid coordinate: (c - lo) * scale cut to [0, nb - 1].
+// The comparisons come before the conversion to int, which is undefined
+// for NaN and for values beyond int's range (a scene whose coordinates
+// reach 1e38 makes both).
+inline int bin_of(float c, float lo, float scale, int nb) {
+  const float f = (c - lo) * scale;
+  if (!(f > 0.0f)) return 0;
+  if (f >= float(nb - 1)) return nb - 1;
+  return int(f);
+}
 
 struct Builder {
   const BVHOptions& opt;
@@ -73,8 +85,7 @@ struct Builder {
       BBox bin_box[64];
       size_t bin_count[64] = {};
       for (size_t i = begin; i < end; ++i) {
-        int b = int((prims[i].centroid()[axis] - lo) * scale);
-        b = std::min(std::max(b, 0), nb - 1);
+        const int b = bin_of(prims[i].centroid()[axis], lo, scale, nb);
         ++bin_count[b];
         bin_box[b].lo = vmin(bin_box[b].lo, prims[i].lo);
         bin_box[b].hi = vmax(bin_box[b].hi, prims[i].hi);
@@ -123,11 +134,7 @@ struct Builder {
     if (depth >= kMedianDepth) best_axis = -1;
     if (best_axis >= 0) {
       const float lo = cbox.lo[best_axis], scale = float(nb) / cext[best_axis];
-      auto left_of_split = [&](const PrimInfo& p) {
-        int b = int((p.centroid()[best_axis] - lo) * scale);
-        b = std::min(std::max(b, 0), nb - 1);
-        return b <= best_bin;
-      };
+      auto left_of_split = [&](const PrimInfo& p) { return bin_of(p.centroid()[best_axis], lo, scale, nb) <= best_bin; };
       mid = size_t(std::partition(prims.begin() + long(begin), prims.begin() + long(end), left_of_split) -
                    prims.begin());
     }
@@ -150,6 +157,7 @@ struct Builder {
     build(left + 1, mid, end, depth + 1);
   }
 };
+// END SOLUTION
 
 }  // namespace
 

@@ -3,7 +3,9 @@
 
 #include "bvh.h"
 #include "slab_test.h"
+// BEGIN SOLUTION
 #include "slab_test_pair.h"
+// END SOLUTION
 #include "sphere.h"
 #include "stats.h"
 #include "todo.h"
@@ -13,6 +15,7 @@ namespace pt {
 
 namespace {
 
+// BEGIN SOLUTION
 // Moller-Trumbore on a packed triangle; the same arithmetic as
 // intersect_triangle, so both report the same t and barycentrics.
 inline bool hit_packed(const PackedTriangle& tri, const Ray& r, float* t_out, float* b1_out, float* b2_out) {
@@ -35,6 +38,7 @@ inline bool hit_packed(const PackedTriangle& tri, const Ray& r, float* t_out, fl
 }
 
 constexpr int kStackSize = 128;  // the builder keeps the tree shallower than this
+// END SOLUTION
 
 }  // namespace
 
@@ -101,9 +105,6 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
       const int h = slab_test_pair(&nodes_[n.first], pray, r.min_t, r.max_t, &ta, &tb);
       const bool ha = h & 1, hb = h & 2;
       if (ha && hb) {
-#ifdef PT_MUTANT_bvh_drops_child
-        ni = ta <= tb ? n.first : n.first + 1;  // the farther child is never pushed
-#else
         if (ta <= tb) {
           stack[sp++] = {n.first + 1, tb};
           ni = n.first;
@@ -111,7 +112,6 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
           stack[sp++] = {n.first, ta};
           ni = n.first + 1;
         }
-#endif
       } else if (ha) {
         ni = n.first;
       } else if (hb) {

@@ -1,3 +1,5 @@
+// REFERENCE ONLY: the starter kit leaves this file out (the reference's fast
+// path, not code given to students).
 // Part 2 (speed): the slab test of a node's two children at once, with SSE.
 // Same answer as two calls of slab_test (slab_test.h), about twice as fast:
 // the two boxes of a sibling pair sit in one 64-byte line and are tested in

@@ -37,11 +37,7 @@ Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& 
     Hit h;
     const Color Li = ctx.geometry.intersect(probe, &h) ? zero_bounce_radiance(ctx, probe, h)
                                                        : escaped_radiance(ctx.scene.lights, w);
-#ifdef PT_MUTANT_wrong_hemisphere_pdf
-    sum += bsdf_f(m, wo, wi) * Li * (wi.z / kInvPi);  // pdf 1/pi instead of 1/(2 pi)
-#else
     sum += bsdf_f(m, wo, wi) * Li * (wi.z / uniform_hemisphere_pdf());
-#endif
   }
   return sum / float(n);
   // END SOLUTION
@@ -58,41 +54,19 @@ Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& 
   const Material& m = ctx.scene.materials[size_t(hit.material)];
   Color total(0.0f);
   for (const Light& light : ctx.scene.lights) {
-#ifdef PT_MUTANT_delta_light_sampled_l_times
-    const int n = ctx.light_samples;  // delta lights too: l identical samples
-#else
     const int n = light.is_delta() ? 1 : ctx.light_samples;
-#endif
     Color sum(0.0f);
     for (int i = 0; i < n; ++i) {
       const LightSample ls = sample_light(light, p, rng.uniform(), rng.uniform());
       if (!(ls.pdf > 0)) continue;
       const Vec3 wi = frame.to_local(ls.wi);
-#ifdef PT_MUTANT_below_surface_not_skipped
-      // Samples below the surface are not skipped.
-#else
       if (wi.z <= 0) continue;  // the light is below the surface
-#endif
-#ifdef PT_MUTANT_shadow_ray_not_stopped_at_light
-      const float max_t = kInfinity;  // the shadow ray runs past the light
-#else
       const float max_t = std::isfinite(ls.distance) ? ls.distance - kRayEpsilon : kInfinity;
-#endif
       if (!(max_t > kRayEpsilon)) continue;
-#ifdef PT_MUTANT_no_shadow_epsilon
-      if (ctx.geometry.occluded(Ray(p, ls.wi, 0.0f, max_t))) continue;  // starts on the surface
-#else
       if (ctx.geometry.occluded(Ray(p, ls.wi, kRayEpsilon, max_t))) continue;
-#endif
       float pdf = ls.pdf;
       if (ctx.course_area_pdf && light.type == LightType::Area) pdf /= ls.distance;
-#if defined(PT_MUTANT_missing_cosine)
-      sum += bsdf_f(m, wo, wi) * ls.radiance * (1.0f / pdf);  // no cos theta
-#elif defined(PT_MUTANT_no_light_pdf_division)
-      sum += bsdf_f(m, wo, wi) * ls.radiance * wi.z;  // no division by the pdf
-#else
       sum += bsdf_f(m, wo, wi) * ls.radiance * (wi.z / pdf);
-#endif
     }
     total += sum / float(n);
   }

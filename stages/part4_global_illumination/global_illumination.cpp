@@ -13,37 +13,39 @@ Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions&
   // STUB: todo_once("Part 4: at_least_one_bounce_radiance (stages/part4_global_illumination/global_illumination.cpp)");
   // STUB: (void)opts;
   // STUB: return one_bounce_radiance(ctx, r, hit, rng);
-  Color L(0.0f);
-  const bool first_bounce = r.depth == opts.max_depth;
-#ifdef PT_MUTANT_o0_accumulates
-  if (!(opts.skip_direct && first_bounce))  // every bounce, even with -o 0
-#else
-  if ((opts.accumulate || r.depth == 1) && !(opts.skip_direct && first_bounce))
-#endif
-    L += one_bounce_radiance(ctx, r, hit, rng);
-  if (r.depth <= 1) return L;
+  // One path, bounce by bounce, in a loop rather than by recursion: -m sets
+  // the path length, and -m 1000000 --no-rr must not exhaust the stack.
+  // `weight` is the product of f cos / pdf (and 1 / survival probability)
+  // of the bounces so far.
+  Color L(0.0f), weight(1.0f);
+  Ray ray = r;
+  Hit at = hit;
+  for (;;) {
+    const bool first_bounce = ray.depth == opts.max_depth;
+    if ((opts.accumulate || ray.depth == 1) && !(opts.skip_direct && first_bounce))
+      L += weight * one_bounce_radiance(ctx, ray, at, rng);
+    if (ray.depth <= 1) break;
 
-  // The first indirect bounce is always traced; later ones play roulette.
-  float survive = 1.0f;
-  if (!first_bounce && opts.russian_roulette) {
-    if (rng.uniform() >= kContinueProbability) return L;
-#ifdef PT_MUTANT_no_rr_division
-    // Survivors are not divided by the continuation probability.
-#else
-    survive = kContinueProbability;
-#endif
+    // The first indirect bounce is always traced; later ones play roulette.
+    float survive = 1.0f;
+    if (!first_bounce && opts.russian_roulette) {
+      if (rng.uniform() >= kContinueProbability) break;
+      survive = kContinueProbability;
+    }
+    const Frame frame = Frame::from_normal(at.n);
+    const Vec3 wo = frame.to_local(-ray.d);
+    const Material& m = ctx.scene.materials[size_t(at.material)];
+    Vec3 wi;
+    float pdf = 0;
+    const Color f = bsdf_sample_f(m, wo, rng.uniform(), rng.uniform(), &wi, &pdf);
+    if (!(pdf > 0) || (f.x == 0 && f.y == 0 && f.z == 0)) break;
+    Ray bounce(ray.at(at.t), frame.to_world(wi), kRayEpsilon, kInfinity, ray.depth - 1);
+    Hit next;
+    if (!ctx.geometry.intersect(bounce, &next)) break;  // the sky was counted by light sampling
+    weight *= f * (wi.z / (pdf * survive));
+    ray = bounce;
+    at = next;
   }
-  const Frame frame = Frame::from_normal(hit.n);
-  const Vec3 wo = frame.to_local(-r.d);
-  const Material& m = ctx.scene.materials[size_t(hit.material)];
-  Vec3 wi;
-  float pdf = 0;
-  const Color f = bsdf_sample_f(m, wo, rng.uniform(), rng.uniform(), &wi, &pdf);
-  if (!(pdf > 0) || (f.x == 0 && f.y == 0 && f.z == 0)) return L;
-  Ray bounce(r.at(hit.t), frame.to_world(wi), kRayEpsilon, kInfinity, r.depth - 1);
-  Hit next;
-  if (!ctx.geometry.intersect(bounce, &next)) return L;  // the sky was counted by light sampling
-  L += f * at_least_one_bounce_radiance(ctx, opts, bounce, next, rng) * (wi.z / (pdf * survive));
   return L;
   // END SOLUTION
 }

@@ -19,10 +19,12 @@ struct PathOptions {
 // Light leaving `hit` back along `r` after at least one bounce, for a ray
 // of depth r.depth: the direct light at the hit (if bounces are
 // accumulated, or if this is the last bounce), plus, while r.depth > 1, one
-// sampled bounce (sample_f), continued recursively with depth - 1 and
-// weighted by f cos / pdf. The first bounce from a camera ray (depth ==
-// max_depth) is always traced; later ones survive Russian roulette with
-// kContinueProbability and are divided by it.
+// sampled bounce (sample_f), continued with depth - 1 and weighted by
+// f cos / pdf. The first bounce from a camera ray (depth == max_depth) is
+// always traced; later ones survive Russian roulette with
+// kContinueProbability and are divided by it. The course writes this
+// recursively; a loop does the same and survives any -m (the reference's
+// -m 1000000 --no-rr needs no stack per bounce).
 Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions& opts, const Ray& r,
                                    const Hit& hit, Rng& rng);
 

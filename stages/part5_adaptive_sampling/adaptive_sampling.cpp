@@ -14,11 +14,7 @@ bool pixel_converged(double s1, double s2, int n, double tolerance) {
   if (n < 2) return false;
   const double mean = s1 / n;
   const double variance = std::fmax(0.0, (s2 - s1 * s1 / n) / (n - 1));
-#ifdef PT_MUTANT_adaptive_variance_rule
-  return 1.96 * variance / std::sqrt(double(n)) <= tolerance * mean;  // sigma^2 for sigma
-#else
   return 1.96 * std::sqrt(variance) / std::sqrt(double(n)) <= tolerance * mean;
-#endif
   // END SOLUTION
 }
 

@@ -38,9 +38,12 @@
 #include <vector>
 
 #include "collada.h"
+#include "bvh.h"
+#include "lights.h"
 #include "global_illumination.h"
 #include "render_job.h"
 #include "statistics.h"
+#include "stats.h"
 #include "support.h"
 
 using namespace pt;
@@ -275,4 +278,43 @@ TEST_CASE("part 4 renders of every project scene have no NaN, infinite or negati
     }
   }
   CHECK(scenes >= 5);
+}
+
+TEST_CASE("a path of a million bounces without Russian roulette runs in constant stack (-m 1000000 --no-rr)",
+          "[part4][gi][depth]") {
+  // Between two facing diffuse planes 200,000 units wide and 1 apart, with
+  // no light, every bounce hits a plane again: a bounce leaves the gap only
+  // at a grazing angle (cos < 1e-5, probability 1e-10 per bounce), so paths
+  // run to their full depth. (A closed box would not do: a bounce starting
+  // within the ray epsilon of a corner leaks through it, about once in
+  // 10^3-10^4 bounces.) A path traced by recursion needs a stack frame per
+  // bounce (some 100 MB here) and crashes; a loop needs none.
+  Scene scene;
+  const int m = add_material(scene, diffuse_material(Color(0.5f)));
+  const float w = 1e5f;
+  add_quad(scene, Vec3(-w, 0, w), Vec3(2 * w, 0, 0), Vec3(0, 0, -2 * w), Vec3(0, 1, 0), m);  // floor
+  add_quad(scene, Vec3(-w, 1, -w), Vec3(2 * w, 0, 0), Vec3(0, 0, 2 * w), Vec3(0, -1, 0), m); // ceiling
+  aim_camera(scene.camera, Vec3d(0, 0.5, 0), Vec3d(0, 0.4, -1), 60.0, 1, 1);
+  BVH bvh(scene);
+  const ShadingContext ctx{scene, bvh};
+  PathOptions opts;
+  opts.max_depth = 1000000;
+  opts.russian_roulette = false;
+  thread_ray_stats() = RayStats{};
+  Rng rng = Rng::for_sample(1, 0, 0);
+  const Ray camera_ray(Vec3(0, 0.5f, 0), normalize(Vec3(0, -0.5f, -1)), 0.0f, kInfinity);
+  const Color L = est_radiance_global_illumination(ctx, opts, camera_ray, rng);
+  CHECK(L.x == 0.0f);  // no light
+  // One closest-hit query per bounce: the camera ray, then 999,999 bounces.
+  CHECK(thread_ray_stats().closest_queries == 1000000u);
+
+  // The same through whole renders on the render threads (parts 4 and 5).
+  for (int part : {4, 5}) {
+    RenderOptions o = render_options(1, 1, 1, 1000000, 7);
+    o.part = part;
+    o.russian_roulette = false;
+    const RenderResult r = render_scene(scene, o);
+    INFO("--part " << part);
+    CHECK(r.stats.closest_queries == 1000000u);
+  }
 }

@@ -14,15 +14,13 @@ const char* kind_name(CaseKind kind) {
   switch (kind) {
     case CaseKind::Image: return "image";
     case CaseKind::Rate: return "rate";
-    case CaseKind::BvhCost: return "bvh-cost";
-    case CaseKind::ShadowCost: return "shadow-cost";
     case CaseKind::Speedup: return "speedup";
   }
   return "?";
 }
 
 bool parse_kind(const std::string& s, CaseKind* kind) {
-  for (CaseKind k : {CaseKind::Image, CaseKind::Rate, CaseKind::BvhCost, CaseKind::ShadowCost, CaseKind::Speedup}) {
+  for (CaseKind k : {CaseKind::Image, CaseKind::Rate, CaseKind::Speedup}) {
     if (s == kind_name(k)) {
       *kind = k;
       return true;
@@ -79,7 +77,7 @@ std::vector<Case> read_cases(const std::string& path) {
     double part = 0;
     if (!parse_double(f[1], &part) || part < 1 || part > 5 || part != int(part)) fail("part must be 1..5");
     c.part = int(part);
-    if (!parse_kind(f[2], &c.kind)) fail("unknown kind '" + f[2] + "' (image, rate, bvh-cost, shadow-cost, speedup)");
+    if (!parse_kind(f[2], &c.kind)) fail("unknown kind '" + f[2] + "' (image, rate, speedup)");
     if (!parse_double(f[3], &c.points) || c.points < 0) fail("points must be a number >= 0");
     if (!parse_double(f[4], &c.timeout_seconds) || c.timeout_seconds <= 0) fail("timeout must be seconds > 0");
     c.scene = f[5];

@@ -5,12 +5,12 @@
 
 namespace grader {
 
-// What a case checks besides (always) the image.
+// What a case checks besides the image and, from part 2 on, the costs
+// (intersection tests per query, shadow rays per query) that every case
+// checks against the reference's.
 enum class CaseKind {
-  Image,        // the image against the reference (z test)
+  Image,        // the image against the reference
   Rate,         // image and sample-rate image (adaptive sampling)
-  BvhCost,      // image, and intersection tests per ray against the reference's
-  ShadowCost,   // image, and shadow rays per camera ray against the reference's
   Speedup,      // render with --part 1 and --part 2: the BVH's speed-up
 };
 

@@ -93,11 +93,45 @@ ChildResult run_child(const std::vector<std::string>& argv, const std::string& w
   const ssize_t got = read(status_pipe[0], &exec_errno, sizeof exec_errno);
   close(status_pipe[0]);
 
+  // The stderr watch reads what the child wrote since the last look, line
+  // by line; only the first 64 KB are watched (a TODO line comes first).
+  const int watch_fd = !limits.stop_on_stderr ? -1 : open(stderr_path.c_str(), O_RDONLY | O_CLOEXEC);
+  std::string pending;
+  size_t watched = 0;
+  const auto stderr_says_stop = [&]() {
+    if (watch_fd < 0 || watched > (64u << 10)) return false;
+    char buf[4096];
+    ssize_t n;
+    while ((n = read(watch_fd, buf, sizeof buf)) > 0) {
+      watched += size_t(n);
+      pending.append(buf, size_t(n));
+      size_t eol;
+      while ((eol = pending.find('\n')) != std::string::npos) {
+        const std::string line = pending.substr(0, eol);
+        pending.erase(0, eol + 1);
+        if (limits.stop_on_stderr(line)) {
+          result.stop_line = line;
+          return true;
+        }
+      }
+      if (watched > (64u << 10)) break;
+    }
+    return false;
+  };
+
   int status = 0;
   for (;;) {
     const pid_t done = waitpid(pid, &status, WNOHANG);
     if (done == pid) break;
     if (done < 0 && errno != EINTR) break;
+    if (stderr_says_stop()) {
+      result.stopped = true;
+      kill(-pid, SIGKILL);
+      kill(pid, SIGKILL);
+      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      break;
+    }
     if (now_seconds() - start > limits.wall_seconds) {
       result.timed_out = true;
       kill(-pid, SIGKILL);
@@ -109,13 +143,14 @@ ChildResult run_child(const std::vector<std::string>& argv, const std::string& w
     pause_briefly();
   }
   result.seconds = now_seconds() - start;
+  if (watch_fd >= 0) close(watch_fd);
   kill(-pid, SIGKILL);  // whatever it forked and left behind
   if (got == sizeof exec_errno) {
     result.error = std::string("cannot run ") + argv[0] + ": " + std::strerror(exec_errno);
     return result;
   }
   result.started = true;
-  if (!result.timed_out) {
+  if (!result.timed_out && !result.stopped) {
     if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
     if (WIFSIGNALED(status)) result.signal = WTERMSIG(status);
   }
@@ -125,6 +160,7 @@ ChildResult run_child(const std::vector<std::string>& argv, const std::string& w
 std::string describe(const ChildResult& r, const Limits& limits) {
   char buf[160];
   if (!r.started) return "could not start: " + r.error;
+  if (r.stopped) return "stopped after it printed \"" + r.stop_line + "\"";
   if (r.timed_out) {
     std::snprintf(buf, sizeof buf, "timed out after %.0f s (killed)", limits.wall_seconds);
     return buf;

@@ -2,6 +2,7 @@
 // a wall-clock timeout and resource limits, and reports how it ended.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,12 @@ struct Limits {
   double cpu_seconds = 240;      // RLIMIT_CPU: SIGXCPU after this much CPU time
   uint64_t memory_bytes = 4ull << 30;   // RLIMIT_AS
   uint64_t file_bytes = 256ull << 20;   // RLIMIT_FSIZE: the largest file it may write
+  // When set: the child is stopped (killed with its group) as soon as this
+  // returns true for a line of its stderr; ChildResult::stop_line says
+  // which. For a render that says it cannot do what the case needs
+  // ("TODO: implement Part 3: ..."), so that an unfinished build is not
+  // left to run into the timeout.
+  std::function<bool(const std::string& line)> stop_on_stderr;
 };
 
 struct ChildResult {
@@ -21,6 +28,8 @@ struct ChildResult {
   int signal = 0;           // when a signal ended it
   double seconds = 0;       // wall-clock time
   std::string error;        // why it could not start
+  bool stopped = false;     // stopped for Limits::stop_on_stderr
+  std::string stop_line;    // the line that stopped it
 };
 
 // Runs argv[0] (a path) with its arguments in `workdir`, stdout and stderr
@@ -33,7 +42,7 @@ ChildResult run_child(const std::vector<std::string>& argv, const std::string& w
                       const std::string& stdout_path, const std::string& stderr_path, const Limits& limits);
 
 // "exited with status 3", "killed by signal 11 (Segmentation fault)",
-// "timed out after 60 s", "could not start: ..."
+// "timed out after 60 s", "could not start: ...", "stopped after it printed ..."
 std::string describe(const ChildResult& r, const Limits& limits);
 
 // The first `max_bytes` of a file with every byte that is not printable

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #include "image_io.h"
 #include "text.h"
@@ -79,6 +80,54 @@ std::string join_command(const Case& c, int part, uint64_t seed) {
 
 }  // namespace
 
+namespace {
+
+// "Part 3 not implemented: TODO estimate_direct_lighting_importance" from
+// the TODO lines that doom a case of part `part` (todo_dooms), or "".
+std::string not_implemented(const std::vector<std::string>& todo, int part) {
+  std::map<int, std::vector<std::string>> missing;  // part -> what
+  for (const std::string& t : todo) {
+    const int p = todo_part(t);
+    if (!todo_dooms(p, part)) continue;
+    // "TODO: implement Part 1: generate_ray (stages/...)" -> "generate_ray"
+    std::string what = t.substr(t.find(':', t.find("Part ")) + 1);
+    what = what.substr(what.find_first_not_of(' '));
+    what = what.substr(0, what.find(" ("));
+    std::vector<std::string>& list = missing[p];
+    if (std::find(list.begin(), list.end(), what) == list.end()) list.push_back(what);
+  }
+  if (missing.empty()) return "";
+  std::string which = missing.size() == 1 ? "Part " : "Parts ", details;
+  size_t i = 0;
+  for (const auto& [p, list] : missing) {
+    which += (i == 0 ? "" : i + 1 == missing.size() ? " and " : ", ") + std::to_string(p);
+    std::string names;
+    for (const std::string& n : list) names += (names.empty() ? "" : ", ") + n;
+    details += (i == 0 ? "" : "; ") + (missing.size() > 1 ? "Part " + std::to_string(p) + ": " : std::string()) + names;
+    ++i;
+  }
+  return which + " not implemented (TODO: " + details + ")";
+}
+
+// The costs of a render by kind of query, from its --stats-json.
+struct QueryCosts {
+  double closest_queries = 0, shadow_queries = 0, tests = 0;
+  double closest_tests = 0, shadow_tests = 0;  // per query of that kind
+};
+
+QueryCosts query_costs(const Json& stats) {
+  QueryCosts q;
+  q.closest_queries = stats.num("closest_queries", 0);
+  q.shadow_queries = stats.num("shadow_queries", 0);
+  q.tests = stats.num("primitive_tests", 0);
+  const double shadow = stats.num("shadow_primitive_tests", 0);
+  if (q.closest_queries > 0) q.closest_tests = (q.tests - shadow) / q.closest_queries;
+  if (q.shadow_queries > 0) q.shadow_tests = shadow / q.shadow_queries;
+  return q;
+}
+
+}  // namespace
+
 CaseResult grade_case(const RunSettings& run, const std::string& reference_root, const Case& c, uint64_t seed,
                       const std::string& case_dir, const CostBounds& bounds) {
   CaseResult r;
@@ -89,7 +138,8 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   const auto fail = [&](const std::string& why) {
     r.verdict = Verdict::Failed;
     r.score = 0;
-    r.message = why;
+    const std::string missing = not_implemented(r.todo, c.part);
+    r.message = missing.empty() ? why : missing;
     return r;
   };
 
@@ -102,11 +152,15 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   }
   r.reference_seconds = ref.meta.num("render_seconds_median", -1);
   r.reference_tests_per_ray = ref.meta.num("tests_per_ray", -1);
+  r.reference_closest_tests = ref.meta.num("closest_tests_per_query", -1);
+  r.reference_shadow_tests = ref.meta.num("shadow_tests_per_query", -1);
+  r.reference_shadow_per_query = ref.meta.num("shadow_per_query", -1);
 
   const bool want_rate = c.kind == CaseKind::Rate;
   RenderOutput out = render_case(run, c, c.part, seed, case_dir + "/render", want_rate);
   r.seconds = out.seconds;
   r.log = out.log;
+  r.todo = out.todo;
   if (!out.ok) return fail(out.failure);
   if (out.has_stats) {
     r.render_seconds = out.stats.num("render_seconds", -1);
@@ -121,7 +175,8 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
     return fail("the reference is " + std::to_string(ref.mean.width) + " x " + std::to_string(ref.mean.height) +
                 ": remake it");
   ScoreOptions so;
-  so.block_test = !ref.deterministic;
+  so.deterministic = ref.deterministic;
+  so.block_test = so.mean_test = !ref.deterministic;
   // Mitsuba's floor, 1e-4, is on the variance of one sample; ours is on
   // the variance of a whole render, so it is divided by the samples.
   so.variance_floor = 1e-4 / std::max(1, case_int_option(c, "-s", 1));
@@ -140,12 +195,24 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
 
   std::vector<std::string> problems;
   if (!img.passed) {
-    char buf[320];
-    std::snprintf(buf, sizeof buf,
-                  "image differs from the reference: %d of %d pixel channels beyond |z| = %.2f, %d of %d blocks "
-                  "beyond |z| = %.2f; mean radiance %.4g vs %.4g",
-                  img.channels_failed, img.channels_tested, img.pixel_threshold, img.blocks_failed, img.blocks_tested,
-                  img.block_threshold, img.mean_candidate, img.mean_reference);
+    char buf[400];
+    if (img.deterministic)
+      std::snprintf(buf, sizeof buf,
+                    "image differs from the reference: %d of %d pixel channels off by more than round-off (largest "
+                    "difference %.3g); mean radiance %.4g vs %.4g",
+                    img.channels_failed, img.channels_tested, img.max_abs_difference, img.mean_candidate,
+                    img.mean_reference);
+    else {
+      std::string parts = fmt("%d of ", img.channels_failed) + fmt("%d pixel channels beyond ", img.channels_tested) +
+                          fmt("|z| = %.2f", img.pixel_threshold);
+      if (img.blocks_tested > 0)
+        parts += fmt(", %d of ", img.blocks_failed) + fmt("%d blocks beyond ", img.blocks_tested) +
+                 fmt("|z| = %.2f", img.block_threshold);
+      if (img.mean_tested)
+        parts += fmt(", image mean |z| = %.1f", img.max_mean_z()) + fmt(" (limit %.2f)", img.mean_threshold);
+      std::snprintf(buf, sizeof buf, "image differs from the reference: %s; mean radiance %.4g vs %.4g", parts.c_str(),
+                    img.mean_candidate, img.mean_reference);
+    }
     problems.push_back(buf);
   }
   double credit = img.passed ? c.points : partial_credit(img, c.points);
@@ -156,43 +223,60 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
     const ImageScore rate = score_image(out.rate, ref.rate_mean, ref.rate_variance, ref.runs, ro);
     r.metric += "; rate: " + rate.summary();
     if (!rate.passed) {
-      char buf[320];
-      std::snprintf(buf, sizeof buf,
-                    "sample-rate image differs: %d of %d pixels beyond |z| = %.2f, %d of %d blocks off; mean rate "
-                    "%.3f vs %.3f",
-                    rate.channels_failed, rate.channels_tested, rate.pixel_threshold, rate.blocks_failed,
-                    rate.blocks_tested, rate.mean_candidate, rate.mean_reference);
-      problems.push_back(buf);
+      problems.push_back(fmt("sample-rate image differs: %d of ", rate.channels_failed) +
+                         fmt("%d pixels beyond ", rate.channels_tested) + fmt("|z| = %.2f, ", rate.pixel_threshold) +
+                         fmt("%d of ", rate.blocks_failed) + fmt("%d blocks off, ", rate.blocks_tested) +
+                         fmt("mean |z| = %.1f; ", rate.max_mean_z()) + fmt("mean rate %.3f vs ", rate.mean_candidate) +
+                         fmt("%.3f", rate.mean_reference));
       credit = std::min(credit, partial_credit(rate, c.points));
     }
   }
 
-  if (c.kind == CaseKind::BvhCost) {
-    if (!out.has_stats || r.tests_per_ray < 0) {
-      problems.push_back("no intersection-test counts (--stats-json stats.json)");
-      credit = 0;
-    } else if (r.tests_per_ray > bounds.tests_per_ray_factor * r.reference_tests_per_ray) {
-      problems.push_back(fmt("%.1f intersection tests per ray, ", r.tests_per_ray) +
-                         fmt("more than %.0fx the reference's ", bounds.tests_per_ray_factor) +
-                         fmt("%.1f: the BVH does not cull", r.reference_tests_per_ray));
-      credit = 0;
-    }
-    r.metric += fmt("; %.1f tests/ray", r.tests_per_ray) + fmt(" (ref %.1f)", r.reference_tests_per_ray);
-  }
-
-  if (c.kind == CaseKind::ShadowCost) {
-    const double ref_ratio = ref.meta.num("shadow_per_query", -1);
+  // Costs, from part 2 on (part 1 tests every primitive by design): per
+  // kind of query, so that a BVH that culls for camera rays but not for
+  // shadow rays shows, and shadow rays per closest-hit query (one per delta
+  // light, none for a light below the surface).
+  if (c.part >= 2) {
     if (!out.has_stats || out.stats.num("closest_queries", 0) <= 0) {
       problems.push_back("no ray counts (--stats-json stats.json)");
       credit = 0;
     } else {
-      const double ratio = stat_ratio(out.stats, "shadow_queries", "closest_queries");
-      r.metric += fmt("; %.2f shadow rays per hit query", ratio) + fmt(" (ref %.2f)", ref_ratio);
-      if (ratio > bounds.shadow_factor * ref_ratio) {
-        problems.push_back(fmt("%.2f shadow rays per closest-hit query, ", ratio) +
-                           fmt("the reference needs %.2f: a delta light needs one sample, not -l", ref_ratio));
+      const QueryCosts q = query_costs(out.stats);
+      r.closest_tests = q.closest_tests;
+      if (q.shadow_queries > 0) r.shadow_tests = q.shadow_tests;
+      r.shadow_per_query = q.shadow_queries / q.closest_queries;
+      const auto limit = [&](double reference) { return bounds.tests_factor * reference + bounds.tests_slack; };
+      if (q.tests <= 0) {
+        problems.push_back("no intersection tests counted: every primitive test counts into thread_ray_stats() "
+                           "(see the part 2 contract)");
         credit = 0;
       }
+      if (r.reference_closest_tests >= 0 && q.closest_tests > limit(r.reference_closest_tests)) {
+        problems.push_back(fmt("%.1f intersection tests per camera or bounce ray, ", q.closest_tests) +
+                           fmt("more than %.0fx the reference's ", bounds.tests_factor) +
+                           fmt("%.2f: the BVH does not cull", r.reference_closest_tests));
+        credit = 0;
+      }
+      if (r.reference_shadow_tests >= 0 && q.shadow_queries > 0 && q.shadow_tests > limit(r.reference_shadow_tests)) {
+        problems.push_back(fmt("%.1f intersection tests per shadow ray, ", q.shadow_tests) +
+                           fmt("more than %.0fx the reference's ", bounds.tests_factor) +
+                           fmt("%.2f: the occlusion query does not cull (boxes beyond the light, or every "
+                               "primitive tested)",
+                               r.reference_shadow_tests));
+        credit = 0;
+      }
+      if (r.reference_shadow_per_query > 0 && r.shadow_per_query > bounds.shadow_factor * r.reference_shadow_per_query) {
+        problems.push_back(fmt("%.2f shadow rays per closest-hit query, ", r.shadow_per_query) +
+                           fmt("the reference needs %.2f: a delta light needs one sample, not -l, and a light "
+                               "below the surface none",
+                               r.reference_shadow_per_query));
+        credit = 0;
+      }
+      r.metric += fmt("; tests per query %.2f", q.closest_tests) + fmt(" (ref %.2f)", r.reference_closest_tests);
+      if (q.shadow_queries > 0)
+        r.metric += fmt(", per shadow ray %.2f", q.shadow_tests) + fmt(" (ref %.2f)", r.reference_shadow_tests) +
+                    fmt("; %.2f shadow rays per query", r.shadow_per_query) +
+                    fmt(" (ref %.2f)", r.reference_shadow_per_query);
     }
   }
 
@@ -200,6 +284,8 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
     RenderOutput p1 = render_case(run, c, 1, seed, case_dir + "/part1", false);
     r.part1_seconds = p1.ok && p1.has_stats ? p1.stats.num("render_seconds", -1) : -1;
     r.seconds += p1.seconds;
+    for (const std::string& t : p1.todo)
+      if (std::find(r.todo.begin(), r.todo.end(), t) == r.todo.end()) r.todo.push_back(t);
     if (!p1.ok) {
       problems.push_back("the --part 1 (no BVH) render failed: " + p1.failure);
       credit = 0;
@@ -230,6 +316,13 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   }
   r.verdict = Verdict::Failed;
   r.score = credit;
+  // An unfinished part is the news: say that first, not pixel statistics.
+  const std::string missing = not_implemented(r.todo, c.part);
+  if (!missing.empty()) {
+    r.score = 0;
+    r.message = missing;
+    return r;
+  }
   r.message = problems[0];
   for (size_t i = 1; i < problems.size(); ++i) r.message += "; " + problems[i];
   return r;
@@ -255,6 +348,17 @@ std::string case_result_json(const CaseResult& r) {
   field("speed_ratio", json_number(r.speed_ratio));
   field("tests_per_ray", json_number(r.tests_per_ray));
   field("reference_tests_per_ray", json_number(r.reference_tests_per_ray));
+  field("closest_tests", json_number(r.closest_tests));
+  field("reference_closest_tests", json_number(r.reference_closest_tests));
+  field("shadow_tests", json_number(r.shadow_tests));
+  field("reference_shadow_tests", json_number(r.reference_shadow_tests));
+  field("shadow_per_query", json_number(r.shadow_per_query));
+  field("reference_shadow_per_query", json_number(r.reference_shadow_per_query));
+  {
+    std::string list = "[";
+    for (size_t i = 0; i < r.todo.size(); ++i) list += (i ? ", " : "") + json_quote(r.todo[i]);
+    field("todo", list + "]");
+  }
   field("mrays_per_second", json_number(r.mrays_per_second));
   field("triangles", json_number(r.triangles));
   field("part1_seconds", json_number(r.part1_seconds));
@@ -286,6 +390,15 @@ bool case_result_from_json(const Json& j, CaseResult* r) {
   r->speed_ratio = j.num("speed_ratio", -1);
   r->tests_per_ray = j.num("tests_per_ray", -1);
   r->reference_tests_per_ray = j.num("reference_tests_per_ray", -1);
+  r->closest_tests = j.num("closest_tests", -1);
+  r->reference_closest_tests = j.num("reference_closest_tests", -1);
+  r->shadow_tests = j.num("shadow_tests", -1);
+  r->reference_shadow_tests = j.num("reference_shadow_tests", -1);
+  r->shadow_per_query = j.num("shadow_per_query", -1);
+  r->reference_shadow_per_query = j.num("reference_shadow_per_query", -1);
+  r->todo.clear();
+  if (const Json* t = j.get("todo"))
+    for (const Json& e : t->array) r->todo.push_back(e.string);
   r->mrays_per_second = j.num("mrays_per_second", -1);
   r->triangles = j.num("triangles", -1);
   r->part1_seconds = j.num("part1_seconds", -1);

@@ -41,10 +41,11 @@ struct MakeSettings {
 // Returns false with a one-line reason when a reference render fails.
 bool make_reference(const std::string& root, const Case& c, const MakeSettings& s, std::string* message);
 
-// Re-measures the times recorded in an existing reference's meta.json
-// (median of `runs` renders, one at a time, so that the machine is as quiet
-// as it gets) without touching its images. For references made on a busy
-// machine, whose times would make every build look fast.
+// Re-measures the figures recorded in an existing reference's meta.json,
+// the times (median of `runs` renders, one at a time, so that the machine
+// is as quiet as it gets) and the costs per query, without touching its
+// images. For references made on a busy machine, whose times would make
+// every build look fast, and after the renderer counts something new.
 bool retime_reference(const std::string& root, const Case& c, const MakeSettings& s, int runs, std::string* message);
 
 }  // namespace grader

@@ -17,11 +17,16 @@ namespace {
 // "-" for figures that were not measured.
 std::string opt(const char* f, double v) { return v < 0 ? "-" : fmt(f, v); }
 
-std::string pad(const std::string& s, size_t width, bool right = false) {
-  // Width counts characters, not bytes (messages hold a few UTF-8 symbols).
+// Width in characters, not bytes (messages hold a few UTF-8 symbols).
+size_t text_width(const std::string& s) {
   size_t chars = 0;
   for (unsigned char ch : s)
     if ((ch & 0xC0) != 0x80) ++chars;
+  return chars;
+}
+
+std::string pad(const std::string& s, size_t width, bool right = false) {
+  const size_t chars = text_width(s);
   if (chars >= width) return s;
   const std::string fill(width - chars, ' ');
   return right ? fill + s : s + fill;
@@ -70,24 +75,68 @@ std::string html_escape(const std::string& s) {
 
 }  // namespace
 
+namespace {
+
+// "0.42x" below 100, "1234x" above: the render time over the reference's.
+std::string time_ratio(double v) { return v < 0 ? "-" : v < 100 ? fmt("%.2fx", v) : fmt("%.0fx", v); }
+
+// Lays out rows in columns as wide as their widest cell, two spaces apart;
+// `right` says which columns are right-aligned (numbers). The last column
+// is left as it is (free text).
+std::string columns(const std::vector<std::vector<std::string>>& rows, const std::vector<bool>& right) {
+  std::vector<size_t> width(right.size(), 0);
+  for (const auto& row : rows)
+    for (size_t i = 0; i + 1 < row.size() && i < width.size(); ++i) width[i] = std::max(width[i], text_width(row[i]));
+  std::string out;
+  for (const auto& row : rows) {
+    std::string line;
+    for (size_t i = 0; i < row.size(); ++i) {
+      const bool last = i + 1 == row.size();
+      line += last ? row[i] : pad(row[i], width[i], right[i]);
+      if (!last) line += "  ";
+    }
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    out += line + "\n";
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string terminal_table(const std::vector<CaseResult>& rs) {
-  std::ostringstream s;
-  s << pad("part", 5) << pad("case", 24) << pad("verdict", 8) << pad("score", 11, true) << pad("relMSE", 10, true)
-    << pad("time", 8, true) << pad("speed", 8, true) << "  detail\n";
+  std::vector<std::vector<std::string>> rows;
+  rows.push_back({"part", "case", "verdict", "score", "relMSE", "time", "time ratio", "detail"});
   for (const auto& r : rs) {
-    const std::string score = fmt("%.2f", r.score) + "/" + fmt("%g", r.max_score);
     const std::string detail = r.verdict == Verdict::Passed ? r.metric : r.message;
-    s << pad(std::to_string(r.c.part), 5) << pad(r.c.name, 24) << pad(verdict_name(r.verdict), 8)
-      << pad(score, 11, true) << pad(opt("%.4f", r.relmse), 10, true) << pad(fmt("%.1fs", r.seconds), 8, true)
-      << pad(r.speed_ratio < 0 ? "-" : fmt("%.2fx", r.speed_ratio), 8, true) << "  " << detail << "\n";
+    rows.push_back({std::to_string(r.c.part), r.c.name, verdict_name(r.verdict),
+                    fmt("%.2f", r.score) + "/" + fmt("%g", r.max_score), opt("%.4f", r.relmse),
+                    fmt("%.1f s", r.seconds), time_ratio(r.speed_ratio), detail});
+  }
+  std::ostringstream s;
+  s << columns(rows, {true, false, false, true, true, true, true, false});
+  // One line per part: how far the build has got.
+  s << "\n";
+  for (int part = 1; part <= 5; ++part) {
+    int cases = 0, passed = 0, missing = 0;
+    double score = 0, max = 0;
+    for (const auto& r : rs) {
+      if (r.c.part != part) continue;
+      ++cases;
+      passed += r.verdict == Verdict::Passed;
+      missing += r.message.find(" not implemented (TODO: ") != std::string::npos;
+      score += r.score;
+      max += r.max_score;
+    }
+    if (cases == 0) continue;
+    s << "Part " << part << ": " << passed << "/" << cases << " cases passed, " << fmt("%.2f", score) << " / "
+      << fmt("%g", max) << " points" << (missing ? fmt(" (%.0f not implemented)", missing) : "") << "\n";
   }
   int passed = 0;
   for (const auto& r : rs) passed += r.verdict == Verdict::Passed;
   const double t = total(rs, false), m = total(rs, true);
-  s << "\n"
-    << passed << "/" << rs.size() << " cases passed; score " << fmt("%.2f", t) << " / " << fmt("%g", m) << " ("
+  s << passed << "/" << rs.size() << " cases passed; score " << fmt("%.2f", t) << " / " << fmt("%g", m) << " ("
     << fmt("%.1f", m > 0 ? 100 * t / m : 0) << "%)\n";
-  s << "speed = the render's time / the reference's recorded time (1.00x = as fast; machines differ)\n";
+  s << "time ratio = the render's time / the reference's recorded time (1.00x = as fast; machines differ)\n";
   return s.str();
 }
 
@@ -95,13 +144,13 @@ std::string timing_tables(const std::vector<CaseResult>& rs) {
   std::ostringstream s;
   s << "# Timing\n\n";
   bool any_speedup = false;
-  for (const auto& r : rs) any_speedup |= r.c.kind == CaseKind::Speedup || r.c.kind == CaseKind::BvhCost;
+  for (const auto& r : rs) any_speedup |= r.c.part == 2;
   if (any_speedup) {
     s << "## Part 2: rendering with and without the BVH\n\n"
       << "| scene | triangles | without BVH (s) | with BVH (s) | speed-up | Mrays/s | tests per ray |\n"
       << "|---|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& r : rs) {
-      if (r.c.kind != CaseKind::Speedup && r.c.kind != CaseKind::BvhCost) continue;
+      if (r.c.part != 2) continue;
       s << "| " << r.c.scene << " | " << opt("%.0f", r.triangles) << " | " << opt("%.3f", r.part1_seconds) << " | "
         << opt("%.3f", r.render_seconds) << " | " << (r.speedup < 0 ? "-" : fmt("%.0f×", r.speedup)) << " | "
         << opt("%.3g", r.mrays_per_second) << " | " << opt("%.1f", r.tests_per_ray) << " |\n";
@@ -109,11 +158,11 @@ std::string timing_tables(const std::vector<CaseResult>& rs) {
     s << "\n";
   }
   s << "## Every case\n\n"
-    << "| part | case | scene | render (s) | reference (s) | speed ratio | Mrays/s | tests per ray | wall (s) |\n"
+    << "| part | case | scene | render (s) | reference (s) | time ratio | Mrays/s | tests per ray | wall (s) |\n"
     << "|---:|---|---|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : rs)
     s << "| " << r.c.part << " | " << r.c.name << " | " << r.c.scene << " | " << opt("%.3f", r.render_seconds)
-      << " | " << opt("%.3f", r.reference_seconds) << " | " << (r.speed_ratio < 0 ? "-" : fmt("%.2f×", r.speed_ratio))
+      << " | " << opt("%.3f", r.reference_seconds) << " | " << time_ratio(r.speed_ratio)
       << " | " << opt("%.3g", r.mrays_per_second) << " | " << opt("%.1f", r.tests_per_ray) << " | "
       << fmt("%.2f", r.seconds) << " |\n";
   return s.str();
@@ -164,12 +213,12 @@ std::string html_report(const std::vector<CaseResult>& rs, const RunInfo& info) 
     << html_escape(info.started) << "; " << fmt("%.0f", info.wall_seconds) << " s; seed " << info.seed << ".</p>\n";
   s << "<p><strong>Score " << fmt("%.2f", t) << " / " << fmt("%g", m) << " (" << fmt("%.1f", m > 0 ? 100 * t / m : 0)
     << "%)</strong></p>\n";
-  s << "<table><tr><th>part</th><th>case</th><th>verdict</th><th>score</th><th>relMSE</th><th>time</th><th>speed</th><th>detail</th></tr>\n";
+  s << "<table><tr><th>part</th><th>case</th><th>verdict</th><th>score</th><th>relMSE</th><th>time</th><th>time ratio</th><th>detail</th></tr>\n";
   for (const auto& r : rs)
     s << "<tr><td>" << r.c.part << "</td><td><a href=\"#" << r.c.name << "\">" << r.c.name << "</a></td><td class=\""
       << verdict_name(r.verdict) << "\">" << verdict_name(r.verdict) << "</td><td>" << fmt("%.2f", r.score) << "/"
       << fmt("%g", r.max_score) << "</td><td>" << opt("%.4f", r.relmse) << "</td><td>" << fmt("%.1f s", r.seconds)
-      << "</td><td>" << (r.speed_ratio < 0 ? "-" : fmt("%.2f×", r.speed_ratio)) << "</td><td>"
+      << "</td><td>" << time_ratio(r.speed_ratio) << "</td><td>"
       << html_escape(r.verdict == Verdict::Passed ? r.metric : r.message) << "</td></tr>\n";
   s << "</table>\n";
   for (const auto& r : rs) {

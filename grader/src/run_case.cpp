@@ -1,5 +1,6 @@
 #include "run_case.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -37,7 +38,35 @@ double stat_ratio(const Json& stats, const char* num, const char* den) {
   return d > 0 ? stats.num(num, 0) / d : 0.0;
 }
 
+int todo_part(const std::string& line) {
+  static const std::string prefix = "TODO: implement Part ";
+  const size_t at = line.find(prefix);
+  if (at == std::string::npos) return 0;
+  const size_t digit = at + prefix.size();
+  return digit < line.size() && line[digit] >= '1' && line[digit] <= '5' ? line[digit] - '0' : 0;
+}
+
+bool todo_dooms(int todo, int case_part) { return todo >= 1 && todo <= case_part && (todo != 2 || case_part == 2); }
+
 namespace {
+
+// The TODO lines of a render's stderr (its first 64 KB), without repeats.
+std::vector<std::string> todo_lines(const std::string& stderr_path) {
+  std::vector<std::string> lines;
+  const std::string text = read_text_sanitized(stderr_path, 64 << 10);
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    std::string line = text.substr(start, end - start);
+    start = end + 1;
+    const size_t at = line.find("TODO: implement Part ");
+    if (at == std::string::npos || todo_part(line) == 0) continue;
+    line = line.substr(at, 240);
+    if (std::find(lines.begin(), lines.end(), line) == lines.end()) lines.push_back(line);
+  }
+  return lines;
+}
 
 std::string log_excerpt(const std::string& dir) {
   std::string out = read_text_sanitized(dir + "/stdout.txt", 4000);
@@ -86,9 +115,12 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
   limits.cpu_seconds = limits.wall_seconds * (s.threads + 1);
   limits.memory_bytes = s.memory_bytes;
   limits.file_bytes = s.output_bytes;
+  limits.stop_on_stderr = [part](const std::string& line) { return todo_dooms(todo_part(line), part); };
   out.child = run_child(argv, abs_dir, abs_dir + "/stdout.txt", abs_dir + "/stderr.txt", limits);
   out.seconds = out.child.seconds;
   out.log = log_excerpt(abs_dir);
+  out.todo = todo_lines(abs_dir + "/stderr.txt");
+  out.stopped_at_todo = out.child.stopped;
 
   if (!out.child.started || out.child.timed_out || out.child.signal != 0 || out.child.exit_code != 0) {
     out.failure = describe(out.child, limits);
@@ -141,17 +173,20 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
   }
   // Radiance is never negative; a negative pixel means a negative
   // contribution was added (a light sample below the surface, say).
+  // Float round-off of a correct sum can dip just below zero (-1e-7 on
+  // values near 1), so only values below -kNegativeTolerance count.
+  constexpr float kNegativeTolerance = 1e-4f;
   int negative = 0, nx = 0, ny = 0;
   for (int y = 0; y < out.radiance.height; ++y)
     for (int x = 0; x < out.radiance.width; ++x)
       for (int ch = 0; ch < 3; ++ch)
-        if (out.radiance.at(x, y, ch) < 0) {
+        if (out.radiance.at(x, y, ch) < -kNegativeTolerance) {
           if (negative++ == 0) nx = x, ny = y;
           break;
         }
   if (negative > 0) {
     char buf[160];
-    std::snprintf(buf, sizeof buf, "%d pixel%s negative radiance (the first at x=%d, y=%d from the top)", negative,
+    std::snprintf(buf, sizeof buf, "%d pixel%s negative radiance below -1e-4 (the first at x=%d, y=%d from the top)", negative,
                   negative == 1 ? " has" : "s have", nx, ny);
     out.failure = buf;
     return out;

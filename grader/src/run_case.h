@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "case_list.h"
 #include "child_process.h"
@@ -31,7 +32,19 @@ struct RenderOutput {
   bool has_stats = false;
   Json stats;               // --stats-json
   std::string log;          // stdout + stderr excerpt, sanitised
+  // The render's "TODO: implement Part N: ..." lines (a starter-kit stub
+  // prints one the first time it is reached), in the order printed.
+  std::vector<std::string> todo;
+  bool stopped_at_todo = false;  // stopped as soon as it printed a TODO line that dooms the case (todo_dooms)
 };
+
+// The part number of a "TODO: implement Part N: ..." line, or 0.
+int todo_part(const std::string& line);
+
+// Whether a stub of part `todo` printing its TODO line means that a case of
+// part `case_part` cannot pass: any part up to the case's, except Part 2
+// for later parts (the stub BVH tests every primitive: slow, but correct).
+bool todo_dooms(int todo, int case_part);
 
 // The size `-r W H` in a case's options (the course's default 800 x 600).
 void case_resolution(const Case& c, int* width, int* height);
@@ -44,7 +57,9 @@ int case_int_option(const Case& c, const std::string& flag, int fallback);
 double stat_ratio(const Json& stats, const char* num, const char* den);
 
 // Renders `c` with --part `part` and seed `seed` into `dir` (created,
-// emptied first). Never throws: every problem becomes `failure`.
+// emptied first). A render that prints a TODO line that dooms a case of
+// part `part` is stopped there (its failure says so). Never throws: every problem becomes
+// `failure`.
 RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t seed, const std::string& dir,
                          bool want_rate);
 

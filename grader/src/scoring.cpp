@@ -88,7 +88,43 @@ int count_non_finite(const Image& img, int* first_x, int* first_y) {
   return n;
 }
 
+namespace {
+
+// A deterministic reference: every channel within round-off of it.
+ImageScore score_by_value(const Image& cand, const Image& mean, const ScoreOptions& opts) {
+  ImageScore s;
+  s.deterministic = true;
+  const int w = cand.width, h = cand.height, nc = cand.channels;
+  s.channels_tested = w * h * nc;
+  s.pixel_z.assign(size_t(w) * h, 0.0f);
+  double sum_c = 0, sum_m = 0, rel = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < nc; ++c) {
+        const double cv = cand.at(x, y, c), mv = mean.at(x, y, c), d = cv - mv;
+        const double tolerance = opts.abs_tolerance + opts.rel_tolerance * std::fabs(mv);
+        if (std::fabs(d) > tolerance) ++s.channels_failed;
+        s.max_abs_difference = std::max(s.max_abs_difference, std::fabs(d));
+        // The error map shows |d| in units of the tolerance (1 = the limit).
+        float& pz = s.pixel_z[size_t(y) * w + x];
+        pz = std::max(pz, float(std::fabs(d) / tolerance));
+        sum_c += cv;
+        sum_m += mv;
+        rel += d * d / (mv * mv + 0.01);
+      }
+  const double n = double(s.channels_tested);
+  s.pixel_threshold = 1.0;
+  s.mean_candidate = sum_c / n;
+  s.mean_reference = sum_m / n;
+  s.relmse = rel / n;
+  s.passed = s.channels_failed <= (1.0 - opts.min_pass_fraction) * n;
+  return s;
+}
+
+}  // namespace
+
 ImageScore score_image(const Image& cand, const Image& mean, const Image& var, int runs, const ScoreOptions& opts) {
+  if (opts.deterministic) return score_by_value(cand, mean, opts);
   ImageScore s;
   const int w = cand.width, h = cand.height, nc = cand.channels;
   const double inflate = 1.0 + 1.0 / std::max(runs, 1);
@@ -120,10 +156,15 @@ ImageScore score_image(const Image& cand, const Image& mean, const Image& var, i
   s.pixel_threshold = normal_two_sided_threshold(sidak_level(opts.alpha, s.channels_tested));
   s.pixel_z.assign(size_t(w) * h, 0.0f);
   double sum_c = 0, sum_m = 0, rel = 0, rel_expected = 0;
+  double channel_d[3] = {0, 0, 0}, channel_v[3] = {0, 0, 0};
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < nc; ++c) {
         const double cv = cand.at(x, y, c), mv = mean.at(x, y, c), d = cv - mv;
+        if (c < 3) {
+          channel_d[c] += d;
+          channel_v[c] += sigma2(x, y, c);
+        }
         const double z = std::fabs(d) / std::sqrt(sigma2(x, y, c));
         if (z > s.pixel_threshold) ++s.channels_failed;
         float& pz = s.pixel_z[size_t(y) * w + x];
@@ -140,6 +181,22 @@ ImageScore score_image(const Image& cand, const Image& mean, const Image& var, i
   s.relmse = rel / n;
   s.relmse_expected = rel_expected / n;
   const bool pixels_ok = s.channels_failed <= (1.0 - opts.min_pass_fraction) * n;
+
+  // The image mean per channel: pixels are independent, so the mean
+  // difference's variance is the sum of the pixels' over their count^2.
+  // No winsorising here: clipping a skewed distribution (fireflies) would
+  // bias the mean of the clipped differences, and one firefly moves the
+  // mean of ten thousand pixels by little.
+  if (opts.mean_test) {
+    s.mean_tested = true;
+    const int channels = std::min(nc, 3);
+    s.mean_threshold = normal_two_sided_threshold(sidak_level(opts.alpha, channels));
+    for (int c = 0; c < channels; ++c) {
+      const double se = std::sqrt(channel_v[c]);
+      s.mean_z[c] = se > 0 ? channel_d[c] / se : 0.0;
+      if (std::fabs(s.mean_z[c]) > s.mean_threshold) s.mean_failed = true;
+    }
+  }
 
   bool blocks_ok = true;
   if (opts.block_test) {
@@ -182,19 +239,36 @@ ImageScore score_image(const Image& cand, const Image& mean, const Image& var, i
     // in 2 % of correct renders of some cases).
     blocks_ok = s.distinct_blocks_failed < opts.min_blocks_to_fail;
   }
-  s.passed = pixels_ok && blocks_ok;
+  s.passed = pixels_ok && blocks_ok && !s.mean_failed;
   return s;
 }
 
+double ImageScore::max_mean_z() const {
+  double z = 0;
+  for (double v : mean_z) z = std::max(z, std::fabs(v));
+  return z;
+}
+
 std::string ImageScore::summary() const {
-  char buf[200];
+  char buf[240];
   const double ok = channels_tested ? 100.0 * (channels_tested - channels_failed) / channels_tested : 0.0;
-  if (blocks_tested > 0)
-    std::snprintf(buf, sizeof buf, "%.2f%% px ok, %d/%d blocks off, relMSE %.3g (noise %.3g)", ok, blocks_failed,
-                  blocks_tested, relmse, relmse_expected);
-  else
-    std::snprintf(buf, sizeof buf, "%.2f%% px ok, relMSE %.3g", ok, relmse);
-  return buf;
+  if (deterministic) {
+    std::snprintf(buf, sizeof buf, "%.2f%% px within round-off, largest difference %.2g", ok, max_abs_difference);
+    return buf;
+  }
+  std::string s;
+  std::snprintf(buf, sizeof buf, "%.2f%% px ok", ok);
+  s = buf;
+  if (blocks_tested > 0) {
+    std::snprintf(buf, sizeof buf, ", %d/%d blocks off", blocks_failed, blocks_tested);
+    s += buf;
+  }
+  if (mean_tested) {
+    std::snprintf(buf, sizeof buf, ", image mean |z| %.1f", max_mean_z());
+    s += buf;
+  }
+  std::snprintf(buf, sizeof buf, ", relMSE %.3g (noise %.3g)", relmse, relmse_expected);
+  return s + buf;
 }
 
 }  // namespace grader

@@ -20,6 +20,15 @@
 //    missing Russian-roulette division) shows in 64-pixel averages; the
 //    image fails when two or more distinct blocks fail (one block alone is
 //    a lone outlier's doing, as calibration showed).
+//  - per channel, the image mean (Monte Carlo cases only): the mean of c - m
+//    over the whole image against its standard error. A bias spread thinly
+//    over the image (a 14 % darker render whose pixels are too noisy for
+//    any 8x8 block to show it) is tens of standard errors away here.
+// A deterministic reference (every reference render gave the same image:
+// normal shading at one sample per pixel) is compared by value instead:
+// each channel must lie within abs_tolerance + rel_tolerance |m| of it, as
+// floating-point round-off does, so a systematic error of a few percent
+// fails (the per-pixel z test's variance floor would let 0.05 through).
 // relMSE = mean (c - m)^2 / (m^2 + 0.01) is reported beside it, with the
 // value noise alone would give, for partial credit and for people.
 #pragma once
@@ -54,6 +63,10 @@ struct ScoreOptions {
   int block_size = 8;
   double block_clamp = 3.0;          // pixel differences winsorised at +-3 sigma
   int min_blocks_to_fail = 2;        // distinct blocks (any channel) that fail the image
+  bool mean_test = true;             // off for deterministic references
+  bool deterministic = false;        // compare by value (tolerances below), no z tests
+  double abs_tolerance = 1e-3;       // deterministic: |c - m| <= abs + rel |m|
+  double rel_tolerance = 1e-3;
 };
 
 struct ImageScore {
@@ -63,10 +76,19 @@ struct ImageScore {
   int distinct_blocks_failed = 0;
   double pixel_threshold = 0, block_threshold = 0;  // |z| limits
   double max_block_z = 0;
+  bool deterministic = false;       // compared by value: pixel_threshold is unused
+  double max_abs_difference = 0;    // deterministic: the largest |c - m|
+  // The image-mean test, per channel (Monte Carlo cases).
+  bool mean_tested = false, mean_failed = false;
+  double mean_z[3] = {0, 0, 0};
+  double mean_threshold = 0;
   double relmse = 0, relmse_expected = 0;
   double mean_candidate = 0, mean_reference = 0;
-  std::vector<float> pixel_z;  // per pixel, the largest |z| over channels
-  std::string summary() const;  // "99.98% px ok, 0/192 blocks off, relMSE 0.012 (noise 0.011)"
+  std::vector<float> pixel_z;  // per pixel, the largest |z| over channels (deterministic: |c - m| / tolerance)
+  double max_mean_z() const;   // the largest |z| of the image-mean test
+  // "99.98% px ok, 0/192 blocks off, mean |z| 0.8, relMSE 0.012 (noise 0.011)", or for a
+  // deterministic image "100.00% px within 0.001, largest difference 2e-07"
+  std::string summary() const;
 };
 
 // The sizes must agree (checked by the caller); values must be finite.

@@ -280,6 +280,118 @@ Scene sphere_ambient() {
   return s;
 }
 
+Mesh scene_mesh(const std::string& name, const std::string& material, const IndexedMesh& m, bool closed) {
+  Mesh r;
+  r.name = name;
+  r.material = material;
+  r.vertices = m.v;
+  r.triangles = m.t;
+  r.closed = closed;
+  return r;
+}
+
+// Grading scenes: each shows one thing that the standard scenes hide.
+
+// A `2 hw` x `2 hh` quad centred at `c`, facing `facing` once loaded: the
+// loader reverses the normals of a lone quad, so it is wound with its
+// right-hand normal opposite `facing` (like the box's walls).
+Mesh facing_quad(const std::string& name, const std::string& material, V3 c, V3 facing, double hw, double hh) {
+  const V3 n = normalize(facing);
+  const V3 u = normalize(cross(V3{0, 1, 0}, n)), v = cross(n, u);
+  return quad(name, material, c - hw * u - hh * v, c - hw * u + hh * v, c + hw * u + hh * v, c + hw * u - hh * v,
+              -1.0 * n);
+}
+
+// Part 1: primitives listed nearest first, overlapping in view, so that an
+// intersection routine which lets a later (farther) primitive overwrite an
+// earlier (nearer) hit shows. Brute force tests the triangles in file
+// order, then the spheres: quad A (front) is listed before quad B, which it
+// partly hides, and both before the back wall; sphere S1 (front) is listed
+// before sphere S2, which it partly hides; S2 also lies partly behind quad
+// B, a triangle tested before it.
+Scene depth_order() {
+  Scene s;
+  s.file = "depth_order.dae";
+  s.purpose = "overlapping quads and spheres listed nearest first: the nearest hit must win over the last one "
+              "tested (part 1)";
+  s.materials.push_back(diffuse("front", {0.7, 0.7, 0.7}));
+  s.materials.push_back(diffuse("middle", {0.5, 0.5, 0.5}));
+  s.materials.push_back(diffuse("back", {0.3, 0.3, 0.3}));
+  // Each quad faces the camera turned its own way, so that normal shading
+  // tells them apart.
+  s.meshes.push_back(facing_quad("quadA", "front", {-0.4, 0.6, 0.6}, {0.5, 0.3, 1}, 0.3, 0.3));
+  s.meshes.push_back(facing_quad("quadB", "middle", {0.15, 0.45, 0.2}, {-0.4, -0.3, 1}, 0.4, 0.3));
+  s.meshes.push_back(facing_quad("backWall", "back", {0, 0.75, -0.6}, {0, 0, 1}, 1, 0.75));
+  s.spheres.push_back({"SphereFront", "front", {0.35, 0.9, 0.5}, 0.25});
+  s.spheres.push_back({"SphereBack", "middle", {0.5, 0.75, -0.2}, 0.3});
+  Light p;
+  p.name = "PointLight";
+  p.kind = LightKind::Point;
+  p.color = {3, 3, 3};
+  p.node = zup_frame({0, 1.4, 1.0});
+  s.lights.push_back(p);
+  s.camera = course_camera(s, {0, 0, 1});
+  return s;
+}
+
+// An emissive quad with a backing plate (as over the box's own light) and
+// the CGL area light covering it: `sx` along x by `sz` along z, centred at
+// (x, kLightHeight, z), radiance `radiance`.
+void add_ceiling_light(Scene& s, const std::string& name, double x, double z, double sx, double sz, Rgb radiance) {
+  Material m = diffuse(name, {0.8, 0.8, 0.8});
+  m.kind = MaterialKind::Emission;
+  m.emission = radiance;
+  s.materials.push_back(m);
+  const double y = kLightHeight, hx = sx / 2, hz = sz / 2;
+  s.meshes.push_back(quad(name, name, {x - hx, y, z - hz}, {x + hx, y, z - hz}, {x + hx, y, z + hz}, {x - hx, y, z + hz},
+                          {0, -1, 0}));
+  const double b = y + 1e-4;
+  s.meshes.push_back(quad(name + "Backing", "ceiling", {x - hx - 0.01, b, z - hz - 0.01}, {x + hx + 0.01, b, z - hz - 0.01},
+                          {x + hx + 0.01, b, z + hz + 0.01}, {x - hx - 0.01, b, z + hz + 0.01}, {0, -1, 0}));
+  Light l;
+  l.name = name + "Area";
+  l.kind = LightKind::Area;
+  l.color = radiance;
+  l.node = zup_frame({x, y, z}, sx, sz, 1);
+  s.lights.push_back(l);
+}
+
+// Part 3: two area lights and two point lights, each pair of different
+// sizes, colours and places, so that sampling only one light of a kind,
+// averaging the lights instead of summing them, or sampling a delta light
+// -l times all show.
+Scene cb_lights() {
+  Scene s;
+  s.file = "CBlights.dae";
+  s.purpose = "Cornell box with two diffuse spheres, two CGL area lights and two point lights of different "
+              "colours (part 3: every light counts, once)";
+  add_cornell_box(s);
+  // Not the box's central light: two smaller ones of their own.
+  s.meshes.pop_back();
+  s.materials.erase(std::remove_if(s.materials.begin(), s.materials.end(),
+                                   [](const Material& m) { return m.name == "light"; }),
+                    s.materials.end());
+  s.materials.push_back(diffuse("lambertian", {0.8, 0.8, 0.8}));
+  add_ceiling_light(s, "lightWarm", -0.45, -0.2, 0.4, 0.3, {8, 6, 4});
+  add_ceiling_light(s, "lightCool", 0.5, 0.3, 0.3, 0.5, {3, 5, 9});
+  const auto point = [&](const std::string& name, V3 at, Rgb intensity) {
+    Light p;
+    p.name = name;
+    p.kind = LightKind::Point;
+    p.color = intensity;
+    p.constant_attenuation = 1;
+    p.quadratic_attenuation = 0.0016;
+    p.node = zup_frame(at);
+    s.lights.push_back(p);
+  };
+  point("PointLightLeft", {-0.55, 1.1, 0.55}, {1.2, 1.0, 0.6});
+  point("PointLightRight", {0.6, 0.8, -0.5}, {0.5, 0.8, 1.4});
+  s.spheres.push_back({"SphereFrontRight", "lambertian", kSphereFrontRight, kSphereRadius});
+  s.spheres.push_back({"SphereBackLeft", "lambertian", kSphereBackLeft, kSphereRadius});
+  s.camera = course_camera(s, {0, 0, 1});
+  return s;
+}
+
 // ---------------------------------------------------------------------------
 // Meshes from the pinned third-party sources (sources.txt)
 
@@ -366,15 +478,6 @@ class MeshLibrary {
   std::map<size_t, IndexedMesh> dragons_;
 };
 
-Mesh scene_mesh(const std::string& name, const std::string& material, const IndexedMesh& m, bool closed) {
-  Mesh r;
-  r.name = name;
-  r.material = material;
-  r.vertices = m.v;
-  r.triangles = m.t;
-  r.closed = closed;
-  return r;
-}
 
 // The course's CBbunny, stated in our (unmirrored) box: the bunny stands on
 // the floor in the middle of the box, 0.772 tall (its bounding box is about
@@ -499,6 +602,8 @@ std::vector<Recipe> all_recipes() {
       {"CBspheres.dae", {}, authored(cb_spheres)},
       {"plane_arealight.dae", {}, authored(plane_arealight)},
       {"sphere_ambient.dae", {}, authored(sphere_ambient)},
+      {"depth_order.dae", {}, authored(depth_order)},
+      {"CBlights.dae", {}, authored(cb_lights)},
       {"CBbunny.dae", {"bunny00.off"}, cb_bunny},
       {"CBdragon.dae", {"dragon_vrip.ply"},
        [](MeshLibrary& lib) {

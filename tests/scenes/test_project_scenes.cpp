@@ -85,6 +85,11 @@ std::vector<Expected> expected_scenes() {
        "", {0, 0, 1}, 16, 12});
   add({"bunny_ambient.dae", 2 + 28576, 0, ambient, {{MaterialType::Diffuse, 2}}, false,
        {{"bunny-material", 28576, true, "xyz"}}, "ground-material", up_front});
+  // The grading scenes: primitives listed nearest first (part 1), and a
+  // box with two area and two point lights (part 3).
+  add({"depth_order.dae", 6, 2, {{LightType::Point, 1}}, {{MaterialType::Diffuse, 3}}, false, {}, "", {0, 0, 1}});
+  add({"CBlights.dae", 18, 2, {{LightType::Area, 2}, {LightType::Point, 2}},
+       {{MaterialType::Diffuse, 6}, {MaterialType::Emission, 2}}, false, {}, "", {0, 0, 1}});
   return e;
 }
 
@@ -353,4 +358,6 @@ PROJECT_SCENE_TESTS("CBdragon_large.dae")
 PROJECT_SCENE_TESTS("cow.dae")
 PROJECT_SCENE_TESTS("teapot.dae")
 PROJECT_SCENE_TESTS("armadillo.dae")
+PROJECT_SCENE_TESTS("depth_order.dae")
+PROJECT_SCENE_TESTS("CBlights.dae")
 PROJECT_SCENE_TESTS("bunny_ambient.dae")

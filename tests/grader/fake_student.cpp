@@ -41,6 +41,17 @@
 //   huge_pfm        a valid PNG; the PFM's header claims 60000 x 60000
 //                   pixels but 48 bytes of data follow
 //   exit3           a message on stderr, exit status 3
+//   todo_hang       prints a starter-kit stub's "TODO: implement Part 1: ..."
+//                   line on stderr, then waits forever (the grader must stop
+//                   it at that line, not at the timeout)
+//   todo_part2      prints "TODO: implement Part 2: ..." (a stub BVH, slow
+//                   but correct), then writes valid files
+//   negative_roundoff  valid files with one channel at -1e-6 (round-off)
+//   negative        valid files with one channel at -0.01
+//   costly          valid files; the stats claim 100 tests per closest-hit query
+//   costly_shadow   valid files; the stats claim one shadow query per pixel
+//                   with 100 tests each
+//   uncounted       valid files; the stats count no primitive test at all
 #include <fcntl.h>
 #include <lodepng.h>
 #include <signal.h>
@@ -132,21 +143,29 @@ void write_bytes(const std::string& path, const void* data, size_t n) {
   if (std::fclose(f) != 0 || !ok) die("cannot write " + path);
 }
 
-void write_stats(const Args& a, int w, int h) {
+// One closest-hit query per pixel with `tests` primitive tests each, and
+// `shadow` shadow queries per pixel with `shadow_tests` tests each.
+void write_stats(const Args& a, int w, int h, int tests = 2, int shadow = 0, int shadow_tests = 0) {
   if (a.stats.empty()) return;
+  const long n = long(w) * h;
   std::ostringstream s;
   s << "{\n  \"width\": " << w << ",\n  \"height\": " << h << ",\n  \"render_seconds\": 0.001,\n"
-    << "  \"rays\": " << w * h << ",\n  \"closest_queries\": " << w * h << ",\n  \"shadow_queries\": 0,\n"
-    << "  \"primitive_tests\": " << 12 * w * h << ",\n  \"mrays_per_second\": 1.0,\n  \"triangles\": 12\n}\n";
+    << "  \"rays\": " << n * (1 + shadow) << ",\n  \"closest_queries\": " << n << ",\n  \"shadow_queries\": "
+    << n * shadow << ",\n  \"primitive_tests\": " << n * (tests + shadow * shadow_tests)
+    << ",\n  \"shadow_primitive_tests\": " << n * shadow * shadow_tests
+    << ",\n  \"mrays_per_second\": 1.0,\n  \"triangles\": 12\n}\n";
   const std::string text = s.str();
   write_bytes(a.stats, text.data(), text.size());
 }
 
-void write_valid(const Args& a, int w, int h) {
-  const pt::ImageBuffer img = image(w, h);
+void write_image(const Args& a, const pt::ImageBuffer& img) {
   const std::vector<unsigned char> png = png_bytes(img);
   write_bytes(a.png, png.data(), png.size());
   pt::write_pfm(a.pfm, img);
+}
+
+void write_valid(const Args& a, int w, int h) {
+  write_image(a, image(w, h));
   write_stats(a, w, h);
 }
 
@@ -286,6 +305,29 @@ int main(int argc, char** argv) {
     std::string pfm = "PF\n60000 60000\n-1\n";
     pfm += std::string(48, '\0');
     write_bytes(a.pfm, pfm.data(), pfm.size());
+  } else if (mode == "todo_hang") {
+    record_self();  // first: the grader may kill it as soon as the line is out
+    std::fprintf(stderr, "TODO: implement Part 1: generate_ray (stages/part1_raytracing/camera_rays.cpp)\n");
+    std::fflush(stderr);
+    wait_forever();
+  } else if (mode == "todo_part2") {
+    std::fprintf(stderr, "TODO: implement Part 2: BVH construction (stages/part2_bvh/bvh_build.cpp); using one leaf\n");
+    std::fflush(stderr);
+    write_valid(a, w, h);
+  } else if (mode == "negative_roundoff" || mode == "negative") {
+    pt::ImageBuffer img = image(w, h);
+    img.at(5, 5).y = mode == "negative" ? -0.01f : -1e-6f;
+    write_image(a, img);
+    write_stats(a, w, h);
+  } else if (mode == "costly") {
+    write_image(a, image(w, h));
+    write_stats(a, w, h, 100);
+  } else if (mode == "costly_shadow") {
+    write_image(a, image(w, h));
+    write_stats(a, w, h, 2, 1, 100);
+  } else if (mode == "uncounted") {
+    write_image(a, image(w, h));
+    write_stats(a, w, h, 0);
   } else if (mode == "exit3") {
     std::fprintf(stderr, "fake_student: giving up on purpose\n");
     return 3;

@@ -59,6 +59,7 @@ struct Mode {
   bool passes;          // the render is correct (the case passes)
   const char* message;  // part of the case's message (failures)
   double timeout;       // the case's timeout (s)
+  int part = 1;         // the case's part (from 2 on, costs are checked)
 };
 const Mode kModes[] = {
     {"good", true, "matches the reference", 20},
@@ -78,6 +79,13 @@ const Mode kModes[] = {
     {"fifo_stats", true, "matches the reference", 20},
     {"huge_pfm", false, "PFM data is truncated", 20},
     {"exit3", false, "exited with status 3", 20},
+    {"todo_hang", false, "Part 1 not implemented (TODO: generate_ray)", 60},
+    {"todo_part2", true, "matches the reference", 20},
+    {"negative_roundoff", true, "matches the reference", 20},
+    {"negative", false, "1 pixel has negative radiance below -1e-4 (the first at x=5, y=6 from the top)", 20},
+    {"costly", false, "100.0 intersection tests per camera or bounce ray, more than 8x the reference's", 20, 2},
+    {"costly_shadow", false, "100.0 intersection tests per shadow ray, more than 8x the reference's", 20, 2},
+    {"uncounted", false, "no intersection tests counted", 20, 2},
 };
 
 std::string grader_exe() {
@@ -262,11 +270,11 @@ class Sandbox {
 
   // A case `name` (1 image, kPoints points) rendering `name`.dae, a copy of
   // the project's CBempty.dae, at 16 x 12 with part 1.
-  void add_case(const std::string& name, double timeout) {
+  void add_case(const std::string& name, double timeout, int part = 1) {
     fs::copy_file(pt::test::project_scene("CBempty.dae"), scenes() + "/" + name + ".dae",
                   fs::copy_options::overwrite_existing);
     std::ostringstream line;
-    line << name << " 1 image " << kPoints << " " << timeout << " " << name << ".dae -r 16 12\n";
+    line << name << " " << part << " image " << kPoints << " " << timeout << " " << name << ".dae -r 16 12\n";
     lines_ += line.str();
     if (first_.empty()) first_ = name;
     pt::test::write_text(cases(), "# Robustness cases\n" + lines_);
@@ -324,7 +332,7 @@ JsonValue check_reports(const std::string& out, const std::vector<std::string>& 
   REQUIRE(tests.size() == names.size());
   double sum = 0;
   for (size_t i = 0; i < tests.size(); ++i) {
-    CHECK(tests[i].at("name").string == "Part 1: " + names[i]);
+    CHECK_THAT(tests[i].at("name").string, StartsWith("Part ") && EndsWith(": " + names[i]));
     CHECK(tests[i].at("max_score").number == kPoints);
     sum += tests[i].at("score").number;
   }
@@ -334,7 +342,7 @@ JsonValue check_reports(const std::string& out, const std::vector<std::string>& 
 
 const JsonValue& test_named(const JsonValue& results, const std::string& name) {
   for (const JsonValue& t : results.at("tests").array)
-    if (t.at("name").string == "Part 1: " + name) return t;
+    if (EndsWith(": " + name).match(t.at("name").string)) return t;
   FAIL("no test named " << name << " in results.json");
   throw std::logic_error("unreachable");
 }
@@ -359,7 +367,7 @@ void check_case(const JsonValue& results, const std::string& out, const Mode& m)
 // and the case has the mode's verdict and message. Returns results.json.
 JsonValue grade_one_mode(Sandbox& sb, const std::string& name) {
   const Mode& m = mode(name);
-  sb.add_case(m.name, m.timeout);
+  sb.add_case(m.name, m.timeout, m.part);
   sb.make_references();
   const std::string out = sb.path("out");
   const Run g = sb.grade(m.name, out);
@@ -489,6 +497,33 @@ TEST_CASE("exit3: failed, the exit status and the student's stderr reported") {
   CHECK_THAT(test_named(results, "exit3").at("output").string, Contains("fake_student: giving up on purpose"));
 }
 
+
+// The case's timeout (60 s) is beyond the test's limit on the whole grader
+// run (30 s): only stopping the render at its TODO line lets it finish.
+TEST_CASE("todo_hang: stopped at its TODO line, failed as 'Part 1 not implemented', not at the timeout") {
+  Sandbox sb;
+  grade_one_mode(sb, "todo_hang");
+  check_no_survivors(sb.pids(), 1);
+}
+
+TEST_CASE("todo_part2: a Part 2 TODO line does not stop or fail a part 1 case") {
+  Sandbox sb;
+  grade_one_mode(sb, "todo_part2");
+}
+
+TEST_CASE("negative_roundoff and negative: -1e-6 is round-off and passes, -0.01 fails") {
+  Sandbox a, b;
+  grade_one_mode(a, "negative_roundoff");
+  grade_one_mode(b, "negative");
+}
+
+TEST_CASE("costly, costly_shadow, uncounted: part 2 cases fail on tests per query of either kind, or none counted") {
+  for (const char* m : {"costly", "costly_shadow", "uncounted"}) {
+    Sandbox sb;
+    grade_one_mode(sb, m);
+  }
+}
+
 // ---- All modes in one run ----
 
 TEST_CASE("every mode in one run with -j 2: each case judged on its own, every report complete") {
@@ -496,7 +531,7 @@ TEST_CASE("every mode in one run with -j 2: each case judged on its own, every r
   std::vector<std::string> names;
   double expected_total = 0;
   for (const Mode& m : kModes) {
-    sb.add_case(m.name, m.timeout);
+    sb.add_case(m.name, m.timeout, m.part);
     names.push_back(m.name);
     expected_total += m.passes ? kPoints : 0;
   }
@@ -508,7 +543,7 @@ TEST_CASE("every mode in one run with -j 2: each case judged on its own, every r
   const JsonValue results = check_reports(out, names);
   for (const Mode& m : kModes) check_case(results, out, m);
   CHECK(results.at("score").number == expected_total);
-  check_no_survivors(sb.pids(), 2 + 3);  // hang's two, fork_hang's three
+  check_no_survivors(sb.pids(), 2 + 3 + 1);  // hang's two, fork_hang's three, todo_hang's one
 }
 
 // ---- Shards ----

@@ -4,8 +4,11 @@
 #include <cmath>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 #include "case_list.h"
+#include "grade.h"
+#include "reports.h"
 #include "image_io.h"
 #include "json.h"
 #include "scoring.h"
@@ -216,4 +219,43 @@ TEST_CASE("One deviant block passes as a lone outlier, but two deviant blocks fa
   s = score_image(c, mean, var, 100000, {});
   CHECK(s.distinct_blocks_failed == 2);
   CHECK_FALSE(s.passed);
+}
+
+TEST_CASE("The terminal table keeps its columns apart for long times and large time ratios", "[grader]") {
+  std::vector<CaseResult> rs(3);
+  const double seconds[] = {1.25, 123.5, 9.0}, ratios[] = {0.5, 12345.0, -1};
+  for (int i = 0; i < 3; ++i) {
+    rs[size_t(i)].c.name = "case_" + std::to_string(i);
+    rs[size_t(i)].c.part = i + 1;
+    rs[size_t(i)].max_score = 2;
+    rs[size_t(i)].verdict = Verdict::Failed;
+    rs[size_t(i)].message = "why";
+    rs[size_t(i)].seconds = seconds[i];
+    rs[size_t(i)].speed_ratio = ratios[i];
+  }
+  const std::string table = terminal_table(rs);
+  std::istringstream in(table);
+  std::string header, line;
+  std::getline(in, header);
+  const size_t time_end = header.find(" time ") + 5, ratio_end = header.find("time ratio") + 10;
+  REQUIRE(header.find("speed") == std::string::npos);  // named for what it is
+  const std::string cells[3][2] = {{"1.2 s", "0.50x"}, {"123.5 s", "12345x"}, {"9.0 s", "-"}};
+  for (int i = 0; i < 3; ++i) {
+    REQUIRE(std::getline(in, line));
+    INFO(line);
+    // Right-aligned under their headers, at least two spaces apart.
+    CHECK(line.substr(time_end - cells[i][0].size(), cells[i][0].size()) == cells[i][0]);
+    CHECK(line.substr(ratio_end - cells[i][1].size(), cells[i][1].size()) == cells[i][1]);
+    CHECK(line.substr(time_end, 2) == "  ");
+  }
+}
+
+TEST_CASE("A deterministic image's summary says nothing of blocks it never tested", "[grader]") {
+  const Image mean = constant(8, 8, 0.25f);
+  ScoreOptions o;
+  o.deterministic = true;
+  o.block_test = o.mean_test = false;
+  const ImageScore s = score_image(mean, mean, constant(8, 8, 0.0f), 2, o);
+  CHECK(s.passed);
+  CHECK_THAT(s.summary(), !Catch::Contains("block") && Catch::Contains("round-off"));
 }

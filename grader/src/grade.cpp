@@ -1,7 +1,5 @@
 #include "grade.h"
 
-#include <lodepng.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +7,7 @@
 #include <map>
 
 #include "image_io.h"
+#include "pictures.h"
 #include "text.h"
 
 namespace grader {
@@ -35,41 +34,6 @@ double partial_credit(const ImageScore& s, double points) {
   if (std::fabs(s.mean_candidate - s.mean_reference) > 0.1 * std::fabs(s.mean_reference)) return 0.0;
   const double excess = std::max(0.0, s.relmse - s.relmse_expected);
   return 0.5 * points * std::clamp(1.0 - excess / 0.05, 0.0, 1.0);
-}
-
-void save_png(const std::string& path, const std::vector<unsigned char>& rgb, int w, int h) {
-  std::vector<unsigned char> png;
-  if (lodepng::encode(png, rgb, unsigned(w), unsigned(h), LCT_RGB, 8) == 0)
-    pt::write_file_atomically(path, std::vector<uint8_t>(png.begin(), png.end()));
-}
-
-// The course's 8-bit look of a radiance image (row 0 at the top).
-std::vector<unsigned char> radiance_bytes(const Image& img) {
-  std::vector<unsigned char> rgb(size_t(img.width) * img.height * 3);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x)
-      for (int c = 0; c < 3; ++c)
-        rgb[(size_t(y) * img.width + x) * 3 + c] = pt::radiance_to_byte(img.at(x, y, img.channels == 3 ? c : 0));
-  return rgb;
-}
-
-// |z| per pixel: black (0) through blue to white (the threshold); above the
-// threshold red, so failing pixels stand out.
-std::vector<unsigned char> error_map_bytes(const std::vector<float>& z, int w, int h, double threshold) {
-  std::vector<unsigned char> rgb(size_t(w) * h * 3);
-  for (size_t i = 0; i < z.size(); ++i) {
-    unsigned char* p = &rgb[i * 3];
-    const double t = threshold > 0 ? z[i] / threshold : 0;
-    if (t > 1) {
-      p[0] = 255, p[1] = 40, p[2] = 40;
-    } else {
-      const double u = std::sqrt(std::max(0.0, t));
-      p[0] = (unsigned char)(255 * u * u);
-      p[1] = (unsigned char)(255 * u * u);
-      p[2] = (unsigned char)(255 * u);
-    }
-  }
-  return rgb;
 }
 
 std::string join_command(const Case& c, int part, uint64_t seed) {
@@ -128,6 +92,16 @@ QueryCosts query_costs(const Json& stats) {
 
 }  // namespace
 
+ScoreOptions case_score_options(const Case& c, const Reference& ref) {
+  ScoreOptions so;
+  so.deterministic = ref.deterministic;
+  so.block_test = so.mean_test = !ref.deterministic;
+  // Mitsuba's floor, 1e-4, is on the variance of one sample; ours is on
+  // the variance of a whole render, so it is divided by the samples.
+  so.variance_floor = 1e-4 / std::max(1, case_int_option(c, "-s", 1));
+  return so;
+}
+
 CaseResult grade_case(const RunSettings& run, const std::string& reference_root, const Case& c, uint64_t seed,
                       const std::string& case_dir, const CostBounds& bounds) {
   CaseResult r;
@@ -174,21 +148,14 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   if (out.radiance.width != ref.mean.width || out.radiance.height != ref.mean.height)
     return fail("the reference is " + std::to_string(ref.mean.width) + " x " + std::to_string(ref.mean.height) +
                 ": remake it");
-  ScoreOptions so;
-  so.deterministic = ref.deterministic;
-  so.block_test = so.mean_test = !ref.deterministic;
-  // Mitsuba's floor, 1e-4, is on the variance of one sample; ours is on
-  // the variance of a whole render, so it is divided by the samples.
-  so.variance_floor = 1e-4 / std::max(1, case_int_option(c, "-s", 1));
-  const ImageScore img = score_image(out.radiance, ref.mean, ref.variance, ref.runs, so);
+  const ImageScore img = score_image(out.radiance, ref.mean, ref.variance, ref.runs, case_score_options(c, ref));
   r.relmse = img.relmse;
   r.metric = img.summary();
   try {
-    save_png(case_dir + "/candidate.png", radiance_bytes(out.radiance), out.radiance.width, out.radiance.height);
-    save_png(case_dir + "/reference.png", radiance_bytes(ref.mean), ref.mean.width, ref.mean.height);
-    save_png(case_dir + "/error.png", error_map_bytes(img.pixel_z, out.radiance.width, out.radiance.height,
-                                                      img.pixel_threshold),
-             out.radiance.width, out.radiance.height);
+    save_picture(case_dir + "/candidate.png", radiance_picture(out.radiance));
+    save_picture(case_dir + "/reference.png", radiance_picture(ref.mean));
+    save_picture(case_dir + "/error.png",
+                 error_picture(img.pixel_z, out.radiance.width, out.radiance.height, img.pixel_threshold));
   } catch (const std::exception&) {
     // Pictures for people only; the verdict does not depend on them.
   }

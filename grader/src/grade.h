@@ -55,6 +55,10 @@ struct CaseResult {
   std::string dir;           // where its files are (images for the HTML report)
 };
 
+// How a case's image is scored against its reference: by value when the
+// reference is deterministic, else the z tests at the case's sample count.
+ScoreOptions case_score_options(const Case& c, const Reference& ref);
+
 // Writes candidate.png, reference.png and error.png into the case folder
 // for the HTML report (when there is an image).
 CaseResult grade_case(const RunSettings& run, const std::string& reference_root, const Case& c,

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "case_list.h"
+#include "compare.h"
 #include "grade.h"
 #include "image_io.h"
 #include "reference.h"
@@ -383,6 +384,29 @@ int command_calibrate(const Common& common, int seeds, uint64_t first_seed, cons
   return total_failures ? kSomeFailed : kAllPassed;
 }
 
+// `path` as the user would type it from here: relative when it lies below
+// the current folder.
+std::string as_typed(const std::string& path) {
+  std::error_code ec;
+  const fs::path rel = fs::relative(path, fs::current_path(ec), ec);
+  const std::string r = rel.string();
+  return ec || r.empty() || r.rfind("..", 0) == 0 ? path : r;
+}
+
+int command_compare(const Common& common, bool list, const std::string& name, const std::string& file,
+                    const std::string& out) {
+  const std::vector<Case> cases = read_cases(common.cases);
+  if (list) {
+    print_case_commands(cases, as_typed(common.pathtracer), as_typed(common.scenes));
+    return kAllPassed;
+  }
+  if (name.empty() || file.empty())
+    throw std::runtime_error("compare: give a case and your render (grader compare CASE FILE), or --list");
+  for (const Case& c : cases)
+    if (c.name == name) return compare_render(c, common.references, file, out);
+  throw std::runtime_error(common.cases + ": no case named '" + name + "' (grader compare --list shows them)");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -422,6 +446,18 @@ int main(int argc, char** argv) {
   calibrate->add_option("--table", table, "Where the table goes")->capture_default_str();
   calibrate->add_option("--work", work, "Scratch folder")->capture_default_str();
 
+  CLI::App* compare = app.add_subcommand(
+      "compare", "Compare your render of a case (PFM or PNG) with its reference; --list prints the cases' commands");
+  std::string compare_case, compare_file, compare_out = ".";
+  bool list = false;
+  compare->add_option("case", compare_case, "The case your render is of (see --list)");
+  compare->add_option("file", compare_file, "Your render: a .pfm (full statistics) or a .png (8-bit comparison)");
+  compare->add_flag("--list", list, "Print every case with the command that renders it");
+  compare->add_option("-o,--out", compare_out, "Where compare_CASE.png and .html go")->capture_default_str();
+  compare->add_option("--cases", common.cases, "The case list")->capture_default_str();
+  compare->add_option("--references", common.references, "The reference folder")->capture_default_str();
+  compare->add_option("--scenes", common.scenes, "Where the cases' scenes are")->capture_default_str();
+
   CLI::App* merge = app.add_subcommand("merge", "Join the outputs of several shards into one set of reports");
   std::vector<std::string> shard_dirs;
   merge->add_option("-o,--out", out, "Output folder")->capture_default_str();
@@ -441,6 +477,7 @@ int main(int argc, char** argv) {
     if (*make) return command_make_references(common, runs, force, retime, work);
     if (*calibrate) return command_calibrate(common, seeds, first_seed, table, work + "/calibrate");
     if (*merge) return command_merge(common, out, shard_dirs);
+    if (*compare) return command_compare(common, list, compare_case, compare_file, compare_out);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grader: %s\n", e.what());
     return kUsageError;

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "strict_json.h"
+#include "image_io.h"
 #include "support.h"
 
 extern char** environ;
@@ -664,4 +665,52 @@ TEST_CASE("a pathtracer that is not an executable file: exit 2 before any case r
     CHECK(count_lines(g.err) == 1);
     CHECK_FALSE(fs::exists(out + "/results.json"));
   }
+}
+
+// ---- grader compare ----
+
+TEST_CASE("compare: --list prints each case's command, a PFM gets a verdict, a PNG an 8-bit comparison") {
+  Sandbox sb;
+  sb.add_case("good", 20);
+  sb.make_references();
+  const auto grader = [&](std::vector<std::string> args) {
+    std::vector<std::string> argv = {grader_exe(), "compare", "--cases", sb.cases(), "--references", sb.refs(),
+                                     "--scenes", sb.scenes(), "-o", sb.path("cmp")};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return run_program(argv, {});
+  };
+  const Run list = grader({"--list"});
+  check_finished(list, 0);
+  CHECK_THAT(list.out, Contains("good ") && Contains("--part 1 -r 16 12 --seed 1 -f good.png --pfm good.pfm"));
+
+  // The case's own command, as --list gives it, with the real pathtracer.
+  const std::string png = sb.path("good.png"), pfm = sb.path("good.pfm");
+  const pt::test::RunResult r = pt::test::run_pathtracer(
+      {"--part", "1", "-r", "16", "12", "--seed", "1", "-f", png, "--pfm", pfm, sb.scenes() + "/good.dae"});
+  REQUIRE(r.exit_code == 0);
+  const Run same = grader({"good", pfm});
+  check_finished(same, 0);
+  CHECK_THAT(same.out, Contains("good: matches the reference"));
+  CHECK(fs::exists(sb.path("cmp/compare_good.png")));
+  CHECK_THAT(slurp(sb.path("cmp/compare_good.html")), StartsWith("<!DOCTYPE html>") && Contains("good.pfm"));
+
+  // 3 % brighter everywhere: a deterministic case differs.
+  pt::ImageBuffer img = pt::read_pfm(pfm);
+  for (pt::Color& c : img.pixels) c = c * 1.03f;
+  const std::string bright = sb.path("bright.pfm");
+  pt::write_pfm(bright, img);
+  const Run differs = grader({"good", bright});
+  check_finished(differs, 1);
+  CHECK_THAT(differs.out, Contains("good: differs from the reference"));
+
+  const Run eight_bit = grader({"good", png});
+  check_finished(eight_bit, 0);
+  CHECK_THAT(eight_bit.out, Contains("compared in 8 bits") && Contains("levels of 255"));
+
+  pt::write_pfm(sb.path("small.pfm"), pt::ImageBuffer(8, 6));
+  const Run small = grader({"good", sb.path("small.pfm")});
+  check_finished(small, 2);
+  CHECK_THAT(small.err, Contains("small.pfm: the image is 8 x 6, case good renders 16 x 12"));
+  check_finished(grader({"nosuchcase", pfm}), 2);
+  check_finished(grader({"good", sb.path("missing.pfm")}), 2);
 }

@@ -1,0 +1,147 @@
+#include "compare.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "grade.h"
+#include "image_io.h"
+#include "pictures.h"
+#include "reference.h"
+#include "text.h"
+
+namespace grader {
+
+namespace fs = std::filesystem;
+
+void print_case_commands(const std::vector<Case>& cases, const std::string& pathtracer, const std::string& scenes) {
+  std::printf("The grading cases and the commands that render them (add -t N for N threads: the image does not\n"
+              "depend on it). Then: grader compare CASE CASE.pfm (or CASE.png)\n\n");
+  for (const Case& c : cases) {
+    std::string cmd = pathtracer + " --part " + std::to_string(c.part);
+    for (size_t i = 0; i < c.options.size(); ++i) {
+      const bool names_file = i > 0 && (c.options[i - 1] == "-e" || c.options[i - 1] == "-c");
+      cmd += " " + (names_file ? (fs::path(scenes) / c.options[i]).string() : c.options[i]);
+    }
+    cmd += " --seed 1 -f " + c.name + ".png --pfm " + c.name + ".pfm " + (fs::path(scenes) / c.scene).string();
+    std::printf("%-22s %s\n", c.name.c_str(), cmd.c_str());
+  }
+}
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+  return e;
+}
+
+std::string html_text(const std::string& s) {
+  std::string out;
+  for (char ch : s) out += ch == '<' ? "&lt;" : ch == '>' ? "&gt;" : ch == '&' ? "&amp;" : std::string(1, ch);
+  return out;
+}
+
+void write_page(const std::string& path, const Case& c, const std::string& file, const std::string& png_name,
+                const std::string& verdict, const std::vector<std::string>& lines) {
+  std::string s = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html_text(c.name) +
+                  ": your render and the reference</title>\n<style>body{font-family:system-ui,sans-serif;margin:2em;"
+                  "color:#222}img{image-rendering:pixelated;max-width:100%;border:1px solid #999}</style></head><body>\n";
+  s += "<h1>" + html_text(c.name) + "</h1>\n<p><code>" + html_text(file) + "</code>: " + html_text(verdict) + "</p>\n";
+  s += "<p><img alt=\"your render, the reference, the difference\" src=\"" + html_text(png_name) +
+       "\"></p>\n<p>Left to right: your render, the reference (mean of its renders), the difference.</p>\n<ul>\n";
+  for (const std::string& l : lines) s += "<li>" + html_text(l) + "</li>\n";
+  s += "</ul>\n<p>Case command: <code>pathtracer " + html_text(case_command(c)) + "</code></p>\n</body></html>\n";
+  write_text(path, s);
+}
+
+}  // namespace
+
+int compare_render(const Case& c, const std::string& references, const std::string& file, const std::string& out_dir) {
+  Reference ref;
+  std::string why;
+  if (!load_reference(references, c, &ref, &why)) throw std::runtime_error(c.name + ": " + why);
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw std::runtime_error(file + ": no such file");
+  const std::string ext = lower_extension(file);
+  if (ext != ".pfm" && ext != ".png") throw std::runtime_error(file + ": expected a .pfm or .png image");
+  const bool pfm = ext == ".pfm";
+  const Image mine = pfm ? read_pfm_image(file) : read_png_image(file);
+  if (mine.width != ref.mean.width || mine.height != ref.mean.height)
+    throw std::runtime_error(file + ": the image is " + std::to_string(mine.width) + " x " + std::to_string(mine.height) +
+                             ", case " + c.name + " renders " + std::to_string(ref.mean.width) + " x " +
+                             std::to_string(ref.mean.height) + " (see grader compare --list)");
+
+  std::vector<std::string> lines;
+  std::string verdict;
+  int status = 0;
+  Picture yours, difference;
+  const Picture reference = radiance_picture(ref.mean);
+  const int w = mine.width, h = mine.height;
+  if (pfm) {
+    int fx = 0, fy = 0;
+    if (const int bad = count_non_finite(mine, &fx, &fy))
+      throw std::runtime_error(file + ": " + std::to_string(bad) + " pixels are NaN or infinite (the first at x=" +
+                               std::to_string(fx) + ", y=" + std::to_string(fy) + " from the top)");
+    const ImageScore s = score_image(mine, ref.mean, ref.variance, ref.runs, case_score_options(c, ref));
+    verdict = s.passed ? "matches the reference" : "differs from the reference";
+    status = s.passed ? 0 : 1;
+    lines.push_back(s.summary());
+    lines.push_back(fmt("mean radiance %.4g", s.mean_candidate) + fmt(" (reference %.4g)", s.mean_reference));
+    lines.push_back("the grader also checks the costs and, for adaptive cases, the sample-rate image: grader run "
+                    "--case " + c.name);
+    yours = radiance_picture(mine);
+    difference = error_picture(s.pixel_z, w, h, s.pixel_threshold);
+    lines.push_back(s.deterministic ? "difference: |yours - reference| in units of the round-off tolerance; red "
+                                      "beyond it"
+                                    : "difference: |z| per pixel, black (0) to white (the threshold); red beyond it");
+  } else {
+    // An 8-bit image clamps and rounds what the statistics need: compare
+    // bytes, against the byte difference one standard deviation of noise
+    // makes in the reference.
+    yours.width = w, yours.height = h;
+    yours.rgb.resize(size_t(w) * h * 3);
+    std::vector<float> ratio(size_t(w) * h, 0.0f);
+    double sum_diff = 0, sum_noise = 0;
+    int beyond = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        double worst = 0;
+        for (int ch = 0; ch < 3; ++ch) {
+          const size_t i = (size_t(y) * w + x) * 3 + ch;
+          yours.rgb[i] = (unsigned char)mine.at(x, y, ch);
+          const double m = ref.mean.at(x, y, ch), sd = std::sqrt(std::max(0.0f, ref.variance.at(x, y, ch)));
+          const double noise = std::fabs(double(pt::radiance_to_byte(float(m + sd))) - pt::radiance_to_byte(float(m)));
+          const double d = std::fabs(double(mine.at(x, y, ch)) - reference.rgb[i]);
+          sum_diff += d;
+          sum_noise += noise;
+          worst = std::max(worst, d / (4 * noise + 2));
+        }
+        ratio[size_t(y) * w + x] = float(worst);
+        beyond += worst > 1;
+      }
+    const double n = 3.0 * w * h;
+    verdict = "compared in 8 bits (no verdict: render with --pfm for the grader's statistics)";
+    lines.push_back(fmt("mean |difference| %.2f levels of 255", sum_diff / n) +
+                    fmt(", noise alone gives about %.2f", 0.8 * sum_noise / n));
+    lines.push_back(fmt("%.2f %% of the pixels differ by more than four noise levels (+2)", 100.0 * beyond / (w * h)));
+    difference = error_picture(ratio, w, h, 1.0);
+    lines.push_back("difference: the byte difference against four noise levels (+2), black to white; red beyond it");
+  }
+
+  fs::create_directories(out_dir, ec);
+  if (ec) throw std::runtime_error(out_dir + ": " + ec.message());
+  const std::string png_name = "compare_" + c.name + ".png";
+  save_picture(out_dir + "/" + png_name, side_by_side({yours, reference, difference}, 4));
+  const std::string page = out_dir + "/compare_" + c.name + ".html";
+  write_page(page, c, file, png_name, verdict, lines);
+
+  std::printf("%s: %s\n", c.name.c_str(), verdict.c_str());
+  for (const std::string& l : lines) std::printf("  %s\n", l.c_str());
+  std::printf("Pictures: %s/%s (yours | reference | difference), %s\n", out_dir.c_str(), png_name.c_str(), page.c_str());
+  return status;
+}
+
+}  // namespace grader

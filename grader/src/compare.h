@@ -1,0 +1,26 @@
+// `grader compare`: a render a student made by hand, next to the reference
+// of the grading case it renders, with a difference image. For checking
+// one's work between grading runs: the course's standard commands are the
+// grading cases' commands (`--list` prints them).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "case_list.h"
+
+namespace grader {
+
+// Prints every case with the exact command that renders it (`pathtracer`
+// is the binary to name, `scenes` the scenes folder, both as the user
+// should type them).
+void print_case_commands(const std::vector<Case>& cases, const std::string& pathtracer, const std::string& scenes);
+
+// Compares FILE (.pfm: the grader's statistics and a verdict; .png: an
+// 8-bit comparison, no verdict) with the reference of `c`; writes
+// OUT/compare_<case>.png (render | reference | difference) and
+// OUT/compare_<case>.html, and prints a summary. Returns the exit status:
+// 0 matches (or a PNG compared), 1 differs. Throws std::runtime_error
+// naming the file for bad input (unreadable, wrong size, no reference).
+int compare_render(const Case& c, const std::string& references, const std::string& file, const std::string& out_dir);
+
+}  // namespace grader

@@ -52,7 +52,11 @@ struct Camera {
   void place_course(const Vec3d& dir, const BBox& bounds);
 
   // Read a camera settings file (the course's -c format, six lines). Throws
-  // std::runtime_error naming the file and line on malformed input.
+  // std::runtime_error naming the file and line on malformed input: a token
+  // that is not a finite number, a wrong count, a field of view outside
+  // (0, 180), not 0 <= nClip < fClip, a camera-to-world matrix that is not
+  // a rotation (within 1e-3), a focal distance <= 0 or a negative lens
+  // radius. The camera is left unchanged when the file is refused.
   void load_settings(const std::string& path);
 };
 

@@ -24,7 +24,9 @@
 #include <sstream>
 #include <string_view>
 #include <system_error>
+#include <initializer_list>
 #include <unordered_map>
+#include <unordered_set>
 #include <type_traits>
 
 #include "mat4.h"
@@ -38,7 +40,7 @@ using tinyxml2::XMLNode;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxNodeDepth = 256;          // nested <node>/<instance_node> levels
-constexpr long kMaxNodeVisits = 1000000;    // guards against exponential instancing
+constexpr long kMaxInstances = 1000000;     // nodes and instance_* visited: guards against exponential instancing
 constexpr int kMaxInputOffset = 4096;       // larger offsets are certainly corrupt
 
 // Defaults used when the scene has no camera (see docs/scene-format.md).
@@ -171,6 +173,15 @@ class Loader {
   [[noreturn]] void fail(const XMLElement* e, const std::string& what) const;
   [[noreturn]] void fail_file(const std::string& what) const;
   void warn(const XMLElement* e, const std::string& what);
+  // A warning about an element itself, given once however often the
+  // element is visited (library nodes are visited once per instance).
+  void warn_once(const XMLElement* e, const std::string& what);
+  // Warns about every child of `parent` whose name is not in `known`: an
+  // element the loader does not read where it would read its content (a
+  // misspelt <instance_geometry>) would otherwise silently vanish.
+  void check_children(const XMLElement* parent, std::initializer_list<std::string_view> known);
+  // Fails when the scene would hold more than kMaxScenePrimitives.
+  void reserve_primitives(const XMLElement* e, size_t more) const;
 
   // Text and numbers.
   std::string_view text(const XMLElement* e, std::string& buf) const;
@@ -189,7 +200,7 @@ class Loader {
   const XMLElement* choose_visual_scene();
 
   // Scene graph.
-  Mat4 local_transform(const XMLElement* node) const;
+  Mat4 local_transform(const XMLElement* node);
   void visit_node(const XMLElement* node, const Mat4& parent, int depth);
   void visit_children(const XMLElement* node, const Mat4& world, int depth);
 
@@ -213,7 +224,7 @@ class Loader {
   int material_for(const char* symbol, const std::vector<InstanceMaterial>& bound);
   int default_material();
   Material read_material(const XMLElement* mat);
-  void read_cgl_material(const XMLElement* type, Material& m) const;
+  void read_cgl_material(const XMLElement* type, Material& m);
 
   const std::string path_;
   std::vector<std::string>* warnings_;
@@ -227,7 +238,8 @@ class Loader {
   int default_material_ = -1;
 
   std::vector<const XMLElement*> instancing_;  // nodes entered through <instance_node>
-  long node_visits_ = 0;
+  long instances_ = 0;                         // nodes and instance_* elements visited
+  std::unordered_set<const XMLElement*> warned_;
 
   // Camera, from the first <instance_camera> met.
   bool have_camera_ = false;
@@ -257,6 +269,25 @@ void Loader::fail_file(const std::string& what) const { throw SceneError(one_lin
 
 void Loader::warn(const XMLElement* e, const std::string& what) {
   if (warnings_) warnings_->push_back(one_line(path_ + ": " + describe(e) + ": " + what));
+}
+
+void Loader::warn_once(const XMLElement* e, const std::string& what) {
+  if (warned_.insert(e).second) warn(e, what);
+}
+
+void Loader::check_children(const XMLElement* parent, std::initializer_list<std::string_view> known) {
+  for (const XMLElement* c = parent->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    const std::string_view name = c->Name();
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      warn_once(c, "unknown element inside " + describe(parent) + "; it is ignored");
+  }
+}
+
+void Loader::reserve_primitives(const XMLElement* e, size_t more) const {
+  const size_t have = scene_.triangles.size() + scene_.spheres.size();
+  if (more > kMaxScenePrimitives - std::min(have, kMaxScenePrimitives))
+    fail(e, "the scene would have more than " + std::to_string(kMaxScenePrimitives) +
+                " triangles and spheres, the loader's limit (is a node instanced too many times?)");
 }
 
 // ---- Text and numbers --------------------------------------------------------
@@ -304,6 +335,8 @@ Vec3d Loader::rgb(const XMLElement* e, bool allow_alpha) const {
   for (size_t i = 0; i < 3; ++i) {
     if (!std::isfinite(v[i])) fail(e, "colour component is not finite");
     if (v[i] < 0) fail(e, "colour component " + fmt(v[i]) + " is negative");
+    if (v[i] > std::numeric_limits<float>::max())
+      fail(e, "colour component " + fmt(v[i]) + " is too large for single precision");
   }
   return {v[0], v[1], v[2]};
 }
@@ -405,9 +438,11 @@ void Loader::read_up_axis() {
 
 const XMLElement* Loader::choose_visual_scene() {
   const XMLElement* root = doc_.RootElement();
-  if (const XMLElement* scene = root->FirstChildElement("scene"))
+  if (const XMLElement* scene = root->FirstChildElement("scene")) {
+    check_children(scene, {"instance_physics_scene", "instance_visual_scene", "instance_kinematics_scene", "extra"});
     if (const XMLElement* inst = scene->FirstChildElement("instance_visual_scene"))
       return resolve(inst, "url", "visual_scene");
+  }
   for (const XMLElement* lib = root->FirstChildElement("library_visual_scenes"); lib;
        lib = lib->NextSiblingElement("library_visual_scenes"))
     if (const XMLElement* vs = lib->FirstChildElement("visual_scene")) return vs;
@@ -418,14 +453,27 @@ const XMLElement* Loader::choose_visual_scene() {
 
 // The node's own transform: its transform elements composed in document
 // order, M = T1 * T2 * ... (the last one applies to the geometry first).
-Mat4 Loader::local_transform(const XMLElement* node) const {
+Mat4 Loader::local_transform(const XMLElement* node) {
   Mat4 m;
   for (const XMLElement* c = node->FirstChildElement(); c; c = c->NextSiblingElement()) {
     const char* name = c->Name();
     if (std::strcmp(name, "matrix") == 0) {
-      const std::vector<double> v = numbers(c, 16, "a 4x4 matrix, row by row");
-      if (v[12] != 0 || v[13] != 0 || v[14] != 0 || v[15] != 1)
+      std::vector<double> v = numbers(c);
+      if (v.size() > 16) fail(c, "expected 16 numbers (a 4x4 matrix, row by row), found " + std::to_string(v.size()));
+      for (double x : v)
+        if (!std::isfinite(x)) fail(c, "contains a number that is not finite");
+      if (v.size() < 16) {
+        // The course reads missing numbers as 0 and some of its files rely
+        // on it (CBgems.dae's camera has 15). The bottom row cannot be
+        // right after such a fill; a transform needs 0 0 0 1 there.
+        warn_once(c, "has " + std::to_string(v.size()) +
+                         " numbers instead of 16; the missing ones are read as 0, as the course reads them, "
+                         "and the bottom row as 0 0 0 1");
+        v.resize(16, 0.0);
+        v[15] = 1;
+      } else if (v[12] != 0 || v[13] != 0 || v[14] != 0 || v[15] != 1) {
         fail(c, "the last row must be 0 0 0 1 (projective transforms are not supported)");
+      }
       m = m * Mat4::from_row_major(v.data());
     } else if (std::strcmp(name, "translate") == 0) {
       const std::vector<double> v = numbers(c, 3, "x y z");
@@ -464,15 +512,22 @@ Mat4 Loader::local_transform(const XMLElement* node) const {
 
 void Loader::visit_node(const XMLElement* node, const Mat4& parent, int depth) {
   if (depth > kMaxNodeDepth) fail(node, "nodes are nested more than " + std::to_string(kMaxNodeDepth) + " deep");
-  if (++node_visits_ > kMaxNodeVisits)
-    fail(node, "more than " + std::to_string(kMaxNodeVisits) + " node instances; the scene is too large");
   visit_children(node, parent * local_transform(node), depth);
 }
 
 // Visits the contents of a node (or of a <visual_scene>) in document order.
 void Loader::visit_children(const XMLElement* node, const Mat4& world, int depth) {
+  if (std::strcmp(node->Name(), "node") == 0)
+    check_children(node, {"asset", "lookat", "matrix", "rotate", "scale", "skew", "translate", "instance_camera",
+                          "instance_controller", "instance_geometry", "instance_light", "instance_node", "node",
+                          "extra"});
+  else
+    check_children(node, {"asset", "node", "evaluate_scene", "extra"});
   for (const XMLElement* c = node->FirstChildElement(); c; c = c->NextSiblingElement()) {
     const char* name = c->Name();
+    if (std::strncmp(name, "instance_", 9) == 0 || std::strcmp(name, "node") == 0)
+      if (++instances_ > kMaxInstances)
+        fail(c, "more than " + std::to_string(kMaxInstances) + " nodes and instances; the scene is too large");
     if (std::strcmp(name, "node") == 0) {
       visit_node(c, world, depth + 1);
     } else if (std::strcmp(name, "instance_node") == 0) {
@@ -500,13 +555,18 @@ void Loader::add_geometry(const XMLElement* inst, const Mat4& world) {
   const XMLElement* geom = resolve(inst, "url", "geometry");
 
   std::vector<InstanceMaterial> bound;
-  if (const XMLElement* bm = inst->FirstChildElement("bind_material"))
-    if (const XMLElement* tc = bm->FirstChildElement("technique_common"))
+  check_children(inst, {"bind_material", "extra"});
+  if (const XMLElement* bm = inst->FirstChildElement("bind_material")) {
+    check_children(bm, {"param", "technique_common", "technique", "extra"});
+    if (const XMLElement* tc = bm->FirstChildElement("technique_common")) {
+      check_children(tc, {"instance_material"});
       for (const XMLElement* im = tc->FirstChildElement("instance_material"); im;
            im = im->NextSiblingElement("instance_material")) {
         const char* symbol = im->Attribute("symbol");
         bound.push_back({symbol ? symbol : "", resolve(im, "target", "material")});
       }
+    }
+  }
 
   if (const XMLElement* mesh = geom->FirstChildElement("mesh")) {
     add_mesh(geom, mesh, bound, world);
@@ -521,6 +581,7 @@ void Loader::add_geometry(const XMLElement* inst, const Mat4& world) {
 }
 
 void Loader::add_sphere(const XMLElement* sphere, const std::vector<InstanceMaterial>& bound, const Mat4& world) {
+  check_children(sphere, {"radius"});
   const XMLElement* re = sphere->FirstChildElement("radius");
   if (!re) fail(sphere, "missing <radius>");
   const std::vector<double> v = numbers(re);
@@ -533,6 +594,7 @@ void Loader::add_sphere(const XMLElement* sphere, const std::vector<InstanceMate
   const float rf = float(wr);
   if (!is_finite(cf) || !std::isfinite(rf) || !(rf > 0))
     fail(re, "the node transform makes the sphere degenerate (centre " + fmt(c) + ", radius " + fmt(wr) + ")");
+  reserve_primitives(sphere, 1);
   Sphere s;
   s.center = cf;
   s.radius = rf;
@@ -621,6 +683,12 @@ void Loader::read_primitives(const XMLElement* prim, const XMLElement** pos_sour
                              std::vector<std::array<int, 3>>& tris, std::vector<int>& tri_material,
                              const std::vector<InstanceMaterial>& bound) {
   const std::string_view kind = prim->Name();
+  if (kind == "triangles")
+    check_children(prim, {"input", "p", "extra"});
+  else if (kind == "polylist")
+    check_children(prim, {"input", "vcount", "p", "extra"});
+  else
+    check_children(prim, {"input", "p", "ph", "extra"});
 
   // Inputs: offset -> the smallest element count among the inputs using it.
   int stride = 0, vertex_offset = -1;
@@ -689,6 +757,7 @@ void Loader::read_primitives(const XMLElement* prim, const XMLElement** pos_sour
   };
   // Fan-triangulates a polygon of n vertices whose indices start at `first`.
   auto emit = [&](size_t first, size_t n) {
+    reserve_primitives(prim, tris.size() + (n - 2));
     auto vtx = [&](size_t i) { return int(idx[first + i * size_t(stride) + size_t(vertex_offset)]); };
     const int v0 = vtx(0);
     for (size_t i = 1; i + 1 < n; ++i) {
@@ -815,6 +884,8 @@ void Loader::add_mesh(const XMLElement* geom, const XMLElement* mesh, const std:
   const XMLElement* pos_source = nullptr;
   std::vector<std::array<int, 3>> tris;
   std::vector<int> tri_material;
+  check_children(mesh, {"source", "vertices", "lines", "linestrips", "polygons", "polylist", "triangles", "trifans",
+                        "tristrips", "extra"});
   for (const XMLElement* c = mesh->FirstChildElement(); c; c = c->NextSiblingElement()) {
     const char* name = c->Name();
     if (std::strcmp(name, "polylist") == 0 || std::strcmp(name, "triangles") == 0 ||
@@ -827,15 +898,39 @@ void Loader::add_mesh(const XMLElement* geom, const XMLElement* mesh, const std:
   }
   if (tris.empty()) return;
 
-  // World-space positions, stored in float as the renderer will see them.
+  // Only the positions the triangles use are transformed, renumbered in
+  // order: an instance costs its triangles, not the whole position array
+  // (which matters when a large array is instanced many times).
   const PositionData& pd = positions(pos_source);
-  std::vector<Vec3> wp(pd.count());
-  for (size_t i = 0; i < pd.count(); ++i) {
+  std::vector<int> used;  // file position index of each renumbered one
+  if (pd.count() <= 12 * tris.size()) {
+    std::vector<int> number(pd.count(), -1);
+    for (const auto& t : tris)
+      for (int v : t) number[size_t(v)] = 0;
+    for (size_t i = 0; i < number.size(); ++i)
+      if (number[i] == 0) {
+        number[i] = int(used.size());
+        used.push_back(int(i));
+      }
+    for (auto& t : tris)
+      for (int& v : t) v = number[size_t(v)];
+  } else {
+    used.reserve(3 * tris.size());
+    for (const auto& t : tris) used.insert(used.end(), t.begin(), t.end());
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    for (auto& t : tris)
+      for (int& v : t) v = int(std::lower_bound(used.begin(), used.end(), v) - used.begin());
+  }
+  // World-space positions, stored in float as the renderer will see them.
+  std::vector<Vec3> wp(used.size());
+  for (size_t j = 0; j < used.size(); ++j) {
+    const size_t i = size_t(used[j]);
     const Vec3d p = world.point({pd.xyz[3 * i], pd.xyz[3 * i + 1], pd.xyz[3 * i + 2]});
     const Vec3 f(p);
     if (!is_finite(f))
       fail(pd.array, "position " + std::to_string(i) + " is not finite after the node transform " + fmt(p));
-    wp[i] = f;
+    wp[j] = f;
   }
 
   // Smooth normals: per position, the sum of the (area-weighted) cross
@@ -862,8 +957,10 @@ void Loader::add_mesh(const XMLElement* geom, const XMLElement* mesh, const std:
   // as the course does, flips normals across a triangle).
   const double orient = all_vertices_on_boundary(tris, face) ? -1.0 : 1.0;
 
+  // Within the limit (read_primitives checked it), and never reserving past it.
   const size_t needed = scene_.triangles.size() + tris.size() - degenerate;
-  if (needed > scene_.triangles.capacity()) scene_.triangles.reserve(std::max(needed, 2 * scene_.triangles.capacity()));
+  if (needed > scene_.triangles.capacity())
+    scene_.triangles.reserve(std::min(std::max(needed, 2 * scene_.triangles.capacity()), kMaxScenePrimitives));
   for (size_t t = 0; t < tris.size(); ++t) {
     if (norm2(face[t]) == 0) continue;
     const Vec3d fn = normalize(face[t]) * orient;
@@ -924,7 +1021,7 @@ int Loader::material_for(const char* symbol, const std::vector<InstanceMaterial>
   return i;
 }
 
-void Loader::read_cgl_material(const XMLElement* type, Material& m) const {
+void Loader::read_cgl_material(const XMLElement* type, Material& m) {
   auto color = [&](const char* name, Color& out) {
     if (const XMLElement* e = type->FirstChildElement(name)) out = Color(rgb(e, false));
   };
@@ -933,10 +1030,21 @@ void Loader::read_cgl_material(const XMLElement* type, Material& m) const {
       const double v = scalar(e, name);
       if (lo_inclusive ? v < lo : v <= lo)
         fail(e, std::string("must be ") + (lo_inclusive ? ">= " : "> ") + fmt(lo) + ", found " + fmt(v));
+      if (v > std::numeric_limits<float>::max()) fail(e, fmt(v) + " is too large for single precision");
       out = float(v);
     }
   };
   const std::string_view t = type->Name();
+  if (t == "emission")
+    check_children(type, {"radiance"});
+  else if (t == "mirror")
+    check_children(type, {"reflectance"});
+  else if (t == "glass")
+    check_children(type, {"reflectance", "transmittance", "roughness", "ior"});
+  else if (t == "refraction")
+    check_children(type, {"transmittance", "roughness", "ior"});
+  else if (t == "microfacet")
+    check_children(type, {"alpha", "eta", "k"});
   if (t == "emission") {
     m.type = MaterialType::Emission;
     m.albedo = Color(0.0f);
@@ -983,12 +1091,15 @@ Material Loader::read_material(const XMLElement* mat) {
 
   // profile_COMMON: the diffuse colour of the first shading model.
   if (const XMLElement* prof = effect->FirstChildElement("profile_COMMON"))
-    if (const XMLElement* tech = prof->FirstChildElement("technique"))
+    if (const XMLElement* tech = prof->FirstChildElement("technique")) {
+      check_children(tech, {"asset", "image", "newparam", "constant", "lambert", "phong", "blinn", "extra"});
       for (const XMLElement* model = tech->FirstChildElement(); model; model = model->NextSiblingElement()) {
         const char* name = model->Name();
         if (std::strcmp(name, "phong") && std::strcmp(name, "lambert") && std::strcmp(name, "blinn") &&
             std::strcmp(name, "constant"))
           continue;
+        check_children(model, {"emission", "ambient", "diffuse", "specular", "shininess", "reflective",
+                               "reflectivity", "transparent", "transparency", "index_of_refraction"});
         if (const XMLElement* diffuse = model->FirstChildElement("diffuse")) {
           if (const XMLElement* c = diffuse->FirstChildElement("color"))
             m.albedo = Color(rgb(c, true));
@@ -997,6 +1108,7 @@ Material Loader::read_material(const XMLElement* mat) {
         }
         break;
       }
+    }
   return m;
 }
 
@@ -1021,6 +1133,10 @@ void Loader::add_light(const XMLElement* inst, const Mat4& world) {
     return;
   }
 
+  if (t == "point")
+    check_children(type, {"color", "constant_attenuation", "linear_attenuation", "quadratic_attenuation"});
+  else
+    check_children(type, {"color"});
   const XMLElement* ce = type->FirstChildElement("color");
   if (!ce) fail(type, "missing <color>");
   Light l;
@@ -1044,6 +1160,7 @@ void Loader::add_light(const XMLElement* inst, const Mat4& world) {
       if (const XMLElement* e = type->FirstChildElement(name)) {
         const double v = scalar(e, name);
         if (v < 0) fail(e, "attenuation must not be negative, found " + fmt(v));
+        if (v > std::numeric_limits<float>::max()) fail(e, fmt(v) + " is too large for single precision");
         out = float(v);
       }
     };
@@ -1081,6 +1198,7 @@ void Loader::add_camera(const XMLElement* inst, const Mat4& world) {
   if (!persp) {
     warn(cam, "not a perspective camera; using a " + fmt(kFallbackXfov) + " degree horizontal field of view");
   } else {
+    check_children(persp, {"xfov", "yfov", "aspect_ratio", "znear", "zfar"});
     auto read = [&](const char* name, double& out) {
       const XMLElement* e = persp->FirstChildElement(name);
       if (!e) return false;
@@ -1112,6 +1230,15 @@ void Loader::add_camera(const XMLElement* inst, const Mat4& world) {
   };
   if (has_x && !has_y) yfov = other(xfov, 1.0 / aspect);
   if (has_y && !has_x) xfov = other(yfov, aspect);
+  // An extreme aspect ratio (or field of view) leaves a frame of no width
+  // or of 180 degrees, which no image can show.
+  Camera fitted;
+  fitted.fit_course_frame(xfov, yfov);
+  if (!(xfov > 0 && xfov < 180 && yfov > 0 && yfov < 180) || !std::isfinite(fitted.screen_dist) ||
+      !(fitted.screen_dist > 0) || !(fitted.hfov_deg > 0 && fitted.hfov_deg < 180) ||
+      !(fitted.vfov_deg > 0 && fitted.vfov_deg < 180))
+    fail(persp ? persp : cam, "the field of view " + fmt(xfov) + " x " + fmt(yfov) +
+                           " degrees (from xfov, yfov and aspect_ratio) is too narrow or too wide to render");
   xfov_ = xfov;
   yfov_ = yfov;
 
@@ -1134,8 +1261,18 @@ void Loader::finish_camera(const XMLElement* vscene) {
     yfov_ = 2.0 * std::atan(std::tan(kFallbackXfov * kPi / 360.0) / kFallbackAspect) * 180.0 / kPi;
     camera_dir_ = Vec3d(0, 0, 1);
   }
+  // The renderer works in float: a scene whose bounds overflow it (a huge
+  // sphere radius or scale) would put the camera at infinity.
+  const BBox bounds = scene_.bounds();
+  const Vec3 lo = bounds.lo, hi = bounds.hi;
+  if (!is_finite(lo) || !is_finite(hi) || !is_finite(bounds.extent()) || !is_finite(bounds.centroid()))
+    fail(vscene, "the scene is too large for single-precision numbers: its bounds reach " + fmt(Vec3d(lo)) + " to " +
+                     fmt(Vec3d(hi)));
   scene_.camera.fit_course_frame(xfov_, yfov_);
-  scene_.camera.place_course(camera_dir_, scene_.bounds());
+  scene_.camera.place_course(camera_dir_, bounds);
+  if (!is_finite(Vec3(scene_.camera.position)))
+    fail(vscene, "the scene is too large for single-precision numbers: the camera would stand at " +
+                     fmt(scene_.camera.position));
 }
 
 // ---- Driver ----------------------------------------------------------------------

@@ -19,13 +19,18 @@ struct EnvironmentMap {
   std::vector<Color> texels;  // row by row from the top
 
   // Radiance arriving from direction d (unit, pointing away from the scene),
-  // nearest texel.
+  // nearest texel. A direction with NaN or infinite components still gives
+  // a texel of the map.
   Color lookup(const Vec3& d) const;
 };
 
 // Reads an OpenEXR image's RGB channels. Throws std::runtime_error naming
 // the file on a missing, unreadable or malformed file, or non-finite or
-// negative texels.
+// negative texels. The header is checked before anything is allocated for
+// the image: at most 33,554,432 texels (8192 x 4096) and tiles of at most
+// 4,194,304; attributes that fit the file and match their types; pixel data
+// that can fit the file at its compression's best ratio. Multi-part and
+// deep files are refused.
 EnvironmentMap load_environment_map(const std::string& path);
 
 }  // namespace pt

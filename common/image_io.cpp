@@ -1,9 +1,12 @@
 #include "image_io.h"
 
+#include <fcntl.h>
 #include <lodepng.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <filesystem>
+#include <system_error>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -57,18 +60,18 @@ std::vector<uint8_t> to_png_bytes(const ImageBuffer& img) {
   return rgb;
 }
 
-static void encode_png(const std::string& path, const std::vector<uint8_t>& rgb, int w, int h) {
+static std::vector<uint8_t> encode_png_rgb(const std::vector<uint8_t>& rgb, int w, int h) {
   std::vector<uint8_t> png;
   const unsigned err = lodepng::encode(png, rgb, unsigned(w), unsigned(h), LCT_RGB, 8);
-  if (err) throw std::runtime_error(path + ": PNG encoding failed: " + lodepng_error_text(err));
-  write_file_atomically(path, png);
+  if (err) throw std::runtime_error(std::string("PNG encoding failed: ") + lodepng_error_text(err));
+  return png;
 }
 
-void write_png(const std::string& path, const ImageBuffer& img) {
-  encode_png(path, to_png_bytes(img), img.width, img.height);
+std::vector<uint8_t> encode_png(const ImageBuffer& img) {
+  return encode_png_rgb(to_png_bytes(img), img.width, img.height);
 }
 
-void write_rate_png(const std::string& path, const ImageBuffer& img, int max_samples) {
+std::vector<uint8_t> encode_rate_png(const ImageBuffer& img, int max_samples) {
   std::vector<uint8_t> rgb(size_t(img.width) * img.height * 3);
   for (int y = 0; y < img.height; ++y) {
     const int row = img.height - 1 - y;
@@ -77,10 +80,10 @@ void write_rate_png(const std::string& path, const ImageBuffer& img, int max_sam
       rate_to_rgb(rate, &rgb[(size_t(row) * img.width + x) * 3]);
     }
   }
-  encode_png(path, rgb, img.width, img.height);
+  return encode_png_rgb(rgb, img.width, img.height);
 }
 
-void write_pfm(const std::string& path, const ImageBuffer& img) {
+std::vector<uint8_t> encode_pfm(const ImageBuffer& img) {
   // PFM stores rows bottom to top, which is our pixel order; "-1" = little endian.
   const std::string header = "PF\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n-1\n";
   std::vector<uint8_t> bytes(header.begin(), header.end());
@@ -88,8 +91,30 @@ void write_pfm(const std::string& path, const ImageBuffer& img) {
   bytes.resize(off + img.pixels.size() * 3 * sizeof(float));
   static_assert(sizeof(Color) == 3 * sizeof(float), "Color must be three packed floats");
   std::memcpy(bytes.data() + off, img.pixels.data(), img.pixels.size() * sizeof(Color));
-  write_file_atomically(path, bytes);
+  return bytes;
 }
+
+namespace {
+// Encoding errors name the file they were for.
+template <typename F>
+std::vector<uint8_t> encoded_for(const std::string& path, F encode) {
+  try {
+    return encode();
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+}  // namespace
+
+void write_png(const std::string& path, const ImageBuffer& img) {
+  write_file_atomically(path, encoded_for(path, [&] { return encode_png(img); }));
+}
+
+void write_rate_png(const std::string& path, const ImageBuffer& img, int max_samples) {
+  write_file_atomically(path, encoded_for(path, [&] { return encode_rate_png(img, max_samples); }));
+}
+
+void write_pfm(const std::string& path, const ImageBuffer& img) { write_file_atomically(path, encode_pfm(img)); }
 
 ImageBuffer read_pfm(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -116,22 +141,90 @@ ImageBuffer read_pfm(const std::string& path) {
   return img;
 }
 
-void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes) {
-  const std::string tmp = path + ".tmp." + std::to_string(getpid());
+namespace {
+
+std::string temp_name(const std::string& path) { return path + ".tmp." + std::to_string(getpid()); }
+
+// Writes `bytes` to the temporary file of `path` and returns its name.
+std::string write_temp(const std::string& path, const std::vector<uint8_t>& bytes) {
+  const std::string tmp = temp_name(path);
   FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
   const size_t n = std::fwrite(bytes.data(), 1, bytes.size(), f);
   const bool ok = n == bytes.size() && std::fflush(f) == 0;
   const int err = errno;
   if (std::fclose(f) != 0 || !ok) {
+    const int e = ok ? errno : err;
     std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": write failed: " + std::strerror(ok ? errno : err));
+    throw std::runtime_error(path + ": write failed: " + std::strerror(e));
   }
+  return tmp;
+}
+
+void rename_into_place(const std::string& tmp, const std::string& path) {
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     const int e = errno;
     std::remove(tmp.c_str());
     throw std::runtime_error(path + ": cannot rename into place: " + std::strerror(e));
   }
+}
+
+}  // namespace
+
+void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes) {
+  rename_into_place(write_temp(path, bytes), path);
+}
+
+void check_output_path(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) throw std::runtime_error("an output path is empty");
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);  // follows symbolic links
+  if (fs::is_directory(st)) throw std::runtime_error(path + ": is a folder, not a file");
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw std::runtime_error(path + ": exists and is not a regular file; refusing to replace it");
+  fs::path dir = fs::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  if (!fs::is_directory(dir, ec))
+    throw std::runtime_error(path + ": output folder " + dir.string() + " does not exist");
+  // The one sure test: create the temporary file the write will use.
+  const std::string tmp = temp_name(path);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    if (errno == EEXIST) return;  // a stale one: the write replaces it
+    throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  }
+  ::close(fd);
+  ::unlink(tmp.c_str());
+}
+
+AtomicFileSet::~AtomicFileSet() {
+  if (committed_) return;
+  for (const Pending& p : pending_) std::remove(p.temp.c_str());
+}
+
+void AtomicFileSet::add(const std::string& path, const std::vector<uint8_t>& bytes) {
+  if (committed_) throw std::logic_error("AtomicFileSet::add after commit");
+  for (const Pending& p : pending_)
+    if (p.path == path) throw std::runtime_error(path + ": the same output is written twice");
+  const std::string tmp = write_temp(path, bytes);
+  pending_.push_back({path, tmp});
+}
+
+void AtomicFileSet::commit() {
+  if (committed_) return;
+  for (size_t i = 0; i < pending_.size(); ++i) {
+    if (std::rename(pending_[i].temp.c_str(), pending_[i].path.c_str()) != 0) {
+      const int e = errno;
+      // Undo: the targets renamed so far go, and every temporary left.
+      for (size_t j = 0; j < i; ++j) std::remove(pending_[j].path.c_str());
+      for (size_t j = i; j < pending_.size(); ++j) std::remove(pending_[j].temp.c_str());
+      const std::string path = pending_[i].path;
+      pending_.clear();
+      throw std::runtime_error(path + ": cannot rename into place: " + std::strerror(e));
+    }
+  }
+  committed_ = true;
 }
 
 }  // namespace pt

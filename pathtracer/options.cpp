@@ -1,11 +1,101 @@
 #include "options.h"
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 #include <vector>
 
+#include "image_io.h"
+
 namespace pt {
+
+namespace {
+
+// A number flag's value: finite and within [lo, hi]. (CLI11's own Range
+// lets NaN through.)
+CLI::Validator finite_in(double lo, double hi) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+        if (!std::isfinite(v)) return "'" + text + "' is not a finite number";
+        if (v < lo || v > hi) {
+          char range[96];
+          std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
+          return "'" + text + "' is outside " + range;
+        }
+        return std::string();
+      },
+      "", "finite");
+}
+
+// A non-negative decimal integer that fits in 64 bits.
+bool parse_seed(const std::string& text, uint64_t* out) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return false;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), *out);
+  return r.ec == std::errc() && r.ptr == text.data() + text.size();
+}
+
+// Whether two paths name the same file: the same inode when both exist,
+// else the same absolute path once "." and ".." are resolved and symbolic
+// links followed as far as they exist.
+bool same_file(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ea, eb;
+  if (fs::exists(a, ea) && fs::exists(b, eb)) {
+    std::error_code ec;
+    if (fs::equivalent(a, b, ec)) return true;
+  }
+  const fs::path ca = fs::weakly_canonical(fs::absolute(a, ea), ea);
+  const fs::path cb = fs::weakly_canonical(fs::absolute(b, eb), eb);
+  return !ea && !eb && ca == cb;
+}
+
+// One file the render reads or writes, for the same-file checks.
+struct PathUse {
+  std::string path;
+  std::string flag;  // how the message starts: "-f out.png"
+  std::string lead;  // "" or "its sample-rate image out_rate.png is "
+  std::string role;  // how other messages name it
+};
+
+// Refuses an output that names an input or another output. Returns the
+// message, or an empty string when every path is distinct.
+std::string path_conflict(const RenderOptions& o) {
+  const std::string png = output_png_path(o);
+  const std::string png_flag = o.output_png.empty() ? "the default output " + png : "-f " + png;
+  const std::string rate = rate_image_path(png);
+  std::vector<PathUse> inputs = {{o.scene_path, "", "", "the scene file (" + o.scene_path + ")"}};
+  if (!o.camera_settings.empty())
+    inputs.push_back({o.camera_settings, "", "", "the camera settings file (-c " + o.camera_settings + ")"});
+  if (!o.env_map.empty()) inputs.push_back({o.env_map, "", "", "the environment map (-e " + o.env_map + ")"});
+  std::vector<PathUse> outputs = {
+      {png, png_flag, "", "the output PNG (" + png_flag + ")"},
+      {rate, png_flag, "its sample-rate image " + rate + " is ", "the sample-rate image of " + png_flag}};
+  if (!o.output_pfm.empty()) outputs.push_back({o.output_pfm, "--pfm " + o.output_pfm, "", "--pfm " + o.output_pfm});
+  if (!o.stats_json.empty())
+    outputs.push_back({o.stats_json, "--stats-json " + o.stats_json, "", "--stats-json " + o.stats_json});
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    const PathUse& out = outputs[i];
+    for (const PathUse& in : inputs)
+      if (same_file(out.path, in.path))
+        return out.flag + ": " + out.lead + "the same file as " + in.role + "; refusing to overwrite it";
+    for (size_t j = 0; j < i; ++j)
+      if (same_file(out.path, outputs[j].path))
+        return out.flag + ": " + out.lead + "the same file as " + outputs[j].role;
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string output_png_path(const RenderOptions& opts) {
+  if (!opts.output_png.empty()) return opts.output_png;
+  return std::filesystem::path(opts.scene_path).stem().string() + ".png";
+}
 
 std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
   CLI::App app{
@@ -16,6 +106,7 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
 
   std::vector<int> res, cell;
   std::vector<std::string> adaptive;
+  std::string seed_text;
   int accumulate = 1;
 
   app.add_option("-s", o->samples_per_pixel, "Camera rays per pixel (the maximum with adaptive sampling)")
@@ -26,8 +117,8 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
   app.add_option("-o", accumulate, "Accumulate bounces: 1 sums bounces 0..m, 0 returns only the m-th")
       ->check(CLI::Range(0, 1 << 20))->default_val(1);
   app.add_option("-e", o->env_map, "Environment map (OpenEXR)");
-  app.add_option("-b", o->lens_radius, "Thin-lens aperture radius")->check(CLI::Range(0.0, 1e6));
-  app.add_option("-d", o->focal_distance, "Focal distance")->check(CLI::Range(1e-6, 1e9));
+  app.add_option("-b", o->lens_radius, "Thin-lens aperture radius")->check(finite_in(0.0, 1e6));
+  app.add_option("-d", o->focal_distance, "Focal distance")->check(finite_in(1e-6, 1e9));
   app.add_option("-f", o->output_png, "Output PNG (default: <scene name>.png)");
   app.add_option("-r", res, "Output width and height")->expected(2)->type_name("W H");
   app.add_option("-c", o->camera_settings, "Camera settings file");
@@ -38,7 +129,8 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
       ->expected(4)->type_name("X Y DX DY");
   app.add_option("--part", o->part, "Render what the assignment gives after part N (1-5)")
       ->check(CLI::Range(1, 5))->default_val(kPartsBuilt);
-  app.add_option("--seed", o->seed, "Image seed (renders are reproducible for a given seed)");
+  app.add_option("--seed", seed_text, "Image seed, 0 to 2^64-1 (renders are reproducible for a given seed)")
+      ->type_name("N");
   app.add_option("--pfm", o->output_pfm, "Also write linear radiance to this PFM file");
   app.add_option("--stats-json", o->stats_json, "Write the render's figures (times, rays, tests) as JSON");
   app.add_option("--bvh-leaf", o->bvh_max_leaf, "Most primitives per BVH leaf")->check(CLI::Range(1, 255))->default_val(4);
@@ -73,10 +165,22 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
   o->progress = !no_progress;
   o->lens_radius_set = app.count("-b") > 0;
   o->focal_distance_set = app.count("-d") > 0;
+  // An empty path would otherwise mean "none" (-e) or fail late.
+  for (const auto& [flag, value] : {std::pair<const char*, const std::string*>{"-e", &o->env_map},
+                                    {"-f", &o->output_png}, {"-c", &o->camera_settings},
+                                    {"--pfm", &o->output_pfm}, {"--stats-json", &o->stats_json}})
+    if (app.count(flag) > 0 && value->empty()) return fail(std::string(flag) + ": the path is empty");
+  if (o->scene_path.empty()) return fail("scene: the path is empty");
+  if (app.count("--seed") > 0 && !parse_seed(seed_text, &o->seed))
+    return fail("--seed: expected an integer from 0 to 18446744073709551615, got '" + seed_text + "'");
   if (!res.empty()) {
     if (res[0] < 1 || res[1] < 1 || res[0] > 16384 || res[1] > 16384)
       return fail("-r: width and height must be between 1 and 16384, got " + std::to_string(res[0]) + " " +
                   std::to_string(res[1]));
+    if ((long long)res[0] * res[1] > kMaxImagePixels)
+      return fail("-r " + std::to_string(res[0]) + " " + std::to_string(res[1]) + ": the image would have " +
+                  std::to_string((long long)res[0] * res[1]) + " pixels; at most " +
+                  std::to_string(kMaxImagePixels) + " (e.g. 8192 x 4096) fit the renderer's memory limit");
     o->width = res[0];
     o->height = res[1];
   }
@@ -96,8 +200,9 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
     }
   }
   if (!cell.empty()) {
-    if (cell[0] < 0 || cell[1] < 0 || cell[2] < 1 || cell[3] < 1 || cell[0] + cell[2] > o->width ||
-        cell[1] + cell[3] > o->height)
+    // In 64 bits: X + DX must not wrap around.
+    const long long x = cell[0], y = cell[1], dx = cell[2], dy = cell[3];
+    if (x < 0 || y < 0 || dx < 1 || dy < 1 || x + dx > o->width || y + dy > o->height)
       return fail("-p: the cell must lie inside the " + std::to_string(o->width) + "x" +
                   std::to_string(o->height) + " image and be at least 1x1");
     o->cell_set = true;
@@ -109,6 +214,8 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
   if (o->part > kPartsBuilt)
     return fail("--part " + std::to_string(o->part) + ": this build implements parts 1 to " +
                 std::to_string(kPartsBuilt) + " only");
+  const std::string conflict = path_conflict(*o);
+  if (!conflict.empty()) return fail(conflict);
   return std::nullopt;
 }
 

@@ -42,9 +42,20 @@ struct RenderOptions {
   int bvh_bins = 12;             // --bvh-bins
 };
 
+// The largest image -r accepts, in pixels (8192 x 4096; an 8K UHD frame
+// fits). The render holds about 30 bytes per pixel (radiance, sample counts,
+// the encoded files), so this keeps a render within about 1 GB.
+constexpr long long kMaxImagePixels = 1LL << 25;
+
+// The PNG the render writes: -f, or <scene name>.png in the current folder.
+std::string output_png_path(const RenderOptions& opts);
+
 // Parses the command line. On --help prints usage and returns an exit code
 // of 0; on bad input prints one line to stderr and returns a non-zero exit
-// code; otherwise fills `opts` and returns std::nullopt.
+// code; otherwise fills `opts` and returns std::nullopt. Numbers must be
+// finite and in range, file flags must not be empty, and no output may name
+// the same file as another output or as an input (the scene, -c, -e): all
+// of this is refused before anything is read or written.
 std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* opts);
 
 }  // namespace pt

@@ -1,12 +1,11 @@
 #include "render_job.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <stdexcept>
 
 #include "brute_force.h"
@@ -29,18 +28,13 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-std::string default_output_name(const std::string& scene_path) {
-  return std::filesystem::path(scene_path).stem().string() + ".png";
-}
-
-// Fails early (before a long render) when an output cannot be written.
-void check_writable(const std::string& path) {
-  std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  if (dir.empty()) dir = ".";
-  if (!std::filesystem::is_directory(dir))
-    throw std::runtime_error(path + ": output folder " + dir.string() + " does not exist");
-  if (access(dir.c_str(), W_OK) != 0)
-    throw std::runtime_error(path + ": output folder " + dir.string() + " is not writable");
+// The outputs a render writes, in the order they are written.
+std::vector<std::string> output_paths(const RenderOptions& opts) {
+  const std::string png = output_png_path(opts);
+  std::vector<std::string> paths = {png, rate_image_path(png)};
+  if (!opts.output_pfm.empty()) paths.push_back(opts.output_pfm);
+  if (!opts.stats_json.empty()) paths.push_back(opts.stats_json);
+  return paths;
 }
 
 }  // namespace
@@ -57,7 +51,6 @@ void configure_camera(Camera& cam, const RenderOptions& opts) {
 RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
                           const std::function<void(const RenderResult&)>& before_render) {
   RenderResult result;
-  result.image = ImageBuffer(opts.width, opts.height);
   ImageBuffer& img = result.image;
   const Camera& cam = scene.camera;
 
@@ -103,6 +96,7 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
     rect = PixelRect{opts.cell_x, opts.cell_y, opts.cell_x + opts.cell_w, opts.cell_y + opts.cell_h};
 
   if (before_render) before_render(result);
+  img = ImageBuffer(opts.width, opts.height);
   RenderLoopOptions loop;
   loop.threads = opts.threads;
   loop.progress = opts.progress;
@@ -160,13 +154,11 @@ std::string stats_json(const Scene& scene, const RenderOptions& opts, const Rend
 }
 
 int run_render_job(const RenderOptions& opts) {
-  const std::string png = opts.output_png.empty() ? default_output_name(opts.scene_path) : opts.output_png;
+  const std::string png = output_png_path(opts);
+  // What the job is doing, for the message if memory runs out.
+  std::string doing = "starting";
   try {
-    check_writable(png);
-    check_writable(rate_image_path(png));
-    if (!opts.output_pfm.empty()) check_writable(opts.output_pfm);
-
-    if (!opts.stats_json.empty()) check_writable(opts.stats_json);
+    for (const std::string& out : output_paths(opts)) check_output_path(out);
     if (!opts.env_map.empty() && !std::filesystem::is_regular_file(opts.env_map))
       throw std::runtime_error(opts.env_map + ": no such environment map");
 
@@ -175,6 +167,7 @@ int run_render_job(const RenderOptions& opts) {
     std::fflush(stdout);
     std::vector<std::string> warnings;
     Scene scene;
+    doing = "loading " + opts.scene_path;
     try {
       scene = load_collada(opts.scene_path, &warnings);
     } catch (...) {
@@ -186,6 +179,7 @@ int run_render_job(const RenderOptions& opts) {
     std::printf("Done! (%.4f sec)\n", load_seconds);
     for (const std::string& w : warnings) std::fprintf(stderr, "pathtracer: warning: %s\n", w.c_str());
     if (!opts.env_map.empty()) {
+      doing = "reading the environment map " + opts.env_map;
       Light env;
       env.type = LightType::Environment;
       env.environment = std::make_shared<const EnvironmentMap>(load_environment_map(opts.env_map));
@@ -198,10 +192,13 @@ int run_render_job(const RenderOptions& opts) {
     else
       std::printf("[PathTracer] Part 1: no BVH, every ray tests all %zu primitives.\n", scene.num_primitives());
     std::fflush(stdout);
-    RenderResult r = render_scene(scene, opts, [](const RenderResult& partial) {
+    doing = "building the BVH of " + std::to_string(scene.num_primitives()) + " primitives";
+    const std::string image_size = "-r " + std::to_string(opts.width) + " " + std::to_string(opts.height);
+    RenderResult r = render_scene(scene, opts, [&](const RenderResult& partial) {
       if (partial.used_bvh) std::printf("Done! (%.4f sec)\n", partial.bvh.build_seconds);
       std::printf("[PathTracer] Rendering... ");
       std::fflush(stdout);
+      doing = image_size;
     });
     std::printf("100%%! (%.4fs)\n", r.seconds);
     const uint64_t rays = r.stats.rays();
@@ -216,16 +213,28 @@ int run_render_job(const RenderOptions& opts) {
                   rays ? double(r.stats.node_visits) / double(rays) : 0.0);
     std::printf("[PathTracer] Saving to file: %s... ", png.c_str());
     std::fflush(stdout);
-    write_png(png, r.image);
-    write_rate_png(rate_image_path(png), r.image, opts.samples_per_pixel);
-    if (!opts.output_pfm.empty()) write_pfm(opts.output_pfm, r.image);
+    // All the outputs or none: each goes to a temporary file first, and
+    // they are renamed into place together.
+    AtomicFileSet files;
+    files.add(png, encode_png(r.image));
+    files.add(rate_image_path(png), encode_rate_png(r.image, opts.samples_per_pixel));
+    if (!opts.output_pfm.empty()) files.add(opts.output_pfm, encode_pfm(r.image));
     if (!opts.stats_json.empty()) {
       const std::string json = stats_json(scene, opts, r, load_seconds);
-      write_file_atomically(opts.stats_json, std::vector<uint8_t>(json.begin(), json.end()));
+      files.add(opts.stats_json, std::vector<uint8_t>(json.begin(), json.end()));
     }
+    files.commit();
     std::printf("Done!\n");
     std::printf("[PathTracer] Job completed.\n");
     return 0;
+  } catch (const std::bad_alloc&) {
+    std::fflush(stdout);
+    if (doing.rfind("-r ", 0) == 0)
+      std::fprintf(stderr, "pathtracer: error: %s: out of memory for an image of this size; use a smaller -r\n",
+                   doing.c_str());
+    else
+      std::fprintf(stderr, "pathtracer: error: out of memory while %s\n", doing.c_str());
+    return 1;
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "pathtracer: error: %s\n", e.what());

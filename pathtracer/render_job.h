@@ -26,14 +26,18 @@ void configure_camera(Camera& cam, const RenderOptions& opts);
 // Renders `scene` (camera already configured) as `opts.part` prescribes.
 // Deterministic for a given opts.seed, whatever opts.threads is.
 // `before_render` is called once the acceleration structure is built and
-// before the first pixel (the console lines use it).
+// before the image is allocated and the first pixel rendered (the console
+// lines use it; its RenderResult has no image yet).
 RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
                           const std::function<void(const RenderResult&)>& before_render = {});
 
 // The render's figures as a JSON object (--stats-json).
 std::string stats_json(const Scene& scene, const RenderOptions& opts, const RenderResult& r, double load_seconds);
 
-// Runs the whole job and returns the process exit code.
+// Runs the whole job and returns the process exit code. Every output path
+// is checked before the scene is read; the outputs are then written all or
+// nothing (see AtomicFileSet). Errors, running out of memory included, are
+// one line on stderr and exit status 1.
 int run_render_job(const RenderOptions& opts);
 
 }  // namespace pt

@@ -1,6 +1,12 @@
 // The pathtracer command line, end to end: course flags, help, bad input,
 // outputs, console lines.
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -185,5 +191,173 @@ TEST_CASE("every course scene renders at --part 1 to a PNG of the right size", "
     bool any = false;
     for (unsigned char b : png.rgb) any |= b != 0;
     CHECK(any);
+  }
+}
+
+// ---- Hostile command lines -------------------------------------------------
+
+namespace {
+
+// Runs the pathtracer with its address space limited to `limit_bytes`, so
+// that a large allocation fails as it would on a smaller machine.
+test::RunResult run_with_memory_limit(const std::vector<std::string>& args, const std::string& cwd,
+                                      rlim_t limit_bytes) {
+  test::TempDir io;
+  const std::string out_path = io.file("stdout"), err_path = io.file("stderr");
+  std::vector<std::string> argv_s = {PT_PATHTRACER_EXE};
+  argv_s.insert(argv_s.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& s : argv_s) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  test::RunResult r;
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (out < 0 || err < 0 || dup2(out, 1) < 0 || dup2(err, 2) < 0 || chdir(cwd.c_str()) != 0) _exit(126);
+    const rlimit lim{limit_bytes, limit_bytes};
+    if (setrlimit(RLIMIT_AS, &lim) != 0) _exit(126);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  if (pid < 0 || waitpid(pid, &status, 0) != pid) return r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = read_bytes(out_path);
+  r.err = read_bytes(err_path);
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("a -p cell whose X+DX or Y+DY overflows int is refused, not rendered outside the image", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  const std::string scene = dir.file("tiny.dae");
+  expect_clean_failure(dir, {"-r", "64", "48", "-p", "2147483600", "0", "100", "8", scene}, "-p");
+  expect_clean_failure(dir, {"-r", "64", "48", "-p", "0", "2147483600", "8", "100", scene}, "-p");
+  expect_clean_failure(dir, {"-r", "64", "48", "-p", "60", "0", "2147483647", "8", scene}, "-p");
+  expect_clean_failure(dir, {"-r", "64", "48", "-p", "64", "0", "1", "1", scene}, "-p");
+}
+
+TEST_CASE("NaN, infinite and negative numbers, negative seeds and empty paths are refused", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  const std::string scene = dir.file("tiny.dae");
+  for (const char* v : {"nan", "NaN", "-nan", "inf", "-inf", "1e999", "-1"}) {
+    expect_clean_failure(dir, {"-b", v, scene}, "-b");
+    expect_clean_failure(dir, {"-d", v, scene}, "-d");
+  }
+  expect_clean_failure(dir, {"-d", "0", scene}, "-d");
+  expect_clean_failure(dir, {"-a", "8", "nan", scene}, "-a");
+  expect_clean_failure(dir, {"-a", "8", "inf", scene}, "-a");
+  for (const char* v : {"-1", "-0x1", "18446744073709551616", "1.5", "seven", ""})
+    expect_clean_failure(dir, {"--seed", v, scene}, "--seed");
+  for (const char* flag : {"-e", "-f", "-c", "--pfm", "--stats-json"})
+    expect_clean_failure(dir, {flag, "", scene}, flag);
+  expect_clean_failure(dir, {""}, "scene");
+  // The largest seed is still accepted.
+  const auto r = run_pathtracer({"--seed", "18446744073709551615", "-r", "4", "3", "-f", "o.png", scene}, dir.path());
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+}
+
+TEST_CASE("an -r image too large for memory is refused naming -r", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  const std::string scene = dir.file("tiny.dae");
+  expect_clean_failure(dir, {"-r", "16384", "16384", scene}, "-r");
+  expect_clean_failure(dir, {"-r", "16384", "4096", scene}, "-r");
+}
+
+TEST_CASE("running out of memory while rendering gives one line naming -r, not a bare std::bad_alloc", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  // 8000 x 4000 is within the pixel limit but needs about 0.5 GB; allow 256 MB.
+  const auto r = run_with_memory_limit({"--part", "1", "-r", "8000", "4000", "-f", "o.png", "tiny.dae"}, dir.path(),
+                                       rlim_t(256) << 20);
+  INFO("stderr: " << r.err);
+  CHECK(r.exit_code == 1);
+  CHECK(count_lines(r.err) == 1);
+  CHECK(r.err.rfind("pathtracer: error: ", 0) == 0);
+  CHECK(r.err.find("-r 8000 4000") != std::string::npos);
+  CHECK(r.err.find("memory") != std::string::npos);
+  CHECK(r.err.find("std::bad_alloc") == std::string::npos);
+  CHECK_FALSE(test::file_exists(dir.file("o.png")));
+}
+
+TEST_CASE("an output that is an existing folder is found before rendering, and nothing is written", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  const std::vector<std::string> base = {"-r", "8", "6", "-f", "o.png"};
+  struct Case {
+    std::string folder;
+    std::vector<std::string> extra;
+  };
+  for (const Case& c : {Case{"o.pfm", {"--pfm", "o.pfm"}}, Case{"o.json", {"--stats-json", "o.json"}},
+                        Case{"o_rate.png", {}}}) {
+    INFO("folder " << c.folder);
+    std::filesystem::create_directory(dir.file(c.folder));
+    std::vector<std::string> args = base;
+    args.insert(args.end(), c.extra.begin(), c.extra.end());
+    args.push_back("tiny.dae");
+    const auto r = run_pathtracer(args, dir.path());
+    INFO("stderr: " << r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(count_lines(r.err) == 1);
+    CHECK(r.err.rfind("pathtracer: error: " + c.folder + ": ", 0) == 0);
+    CHECK(r.out.find("Rendering") == std::string::npos);  // refused before rendering
+    for (const std::string& f : test::list_dir(dir.path())) {
+      INFO("left behind: " << f);
+      CHECK((f == "tiny.dae" || f == c.folder));
+    }
+    std::filesystem::remove(dir.file(c.folder));
+  }
+}
+
+TEST_CASE("outputs naming the scene, an input or each other are refused before anything is done", "[cli]") {
+  test::TempDir dir;
+  test::write_text(dir.file("tiny.dae"), kTinyScene);
+  test::write_text(dir.file("cam.txt"), "30 20 1.5 0.01 50\n0 0 5 0 0 0\n0 0 5 1 10\n1 0 0 0 1 0 0 0 1\n800 600 900\n4 0\n");
+  test::write_text(dir.file("sky.exr"), "not really an image, but it must not be overwritten");
+  const std::string scene = dir.file("tiny.dae");
+  const std::string scene_text = read_bytes(scene);
+  struct Case {
+    std::vector<std::string> args;
+    std::string flag;
+  };
+  const std::vector<Case> cases = {
+      {{"-f", "tiny.dae", "tiny.dae"}, "-f"},
+      {{"-f", "./tiny.dae", scene}, "-f"},
+      {{"-f", dir.path() + "/../" + std::filesystem::path(dir.path()).filename().string() + "/tiny.dae", "tiny.dae"},
+       "-f"},
+      {{"--pfm", "tiny.dae", "tiny.dae"}, "--pfm"},
+      {{"--stats-json", scene, "tiny.dae"}, "--stats-json"},
+      {{"-f", "o.png", "--pfm", "o.png", "tiny.dae"}, "--pfm"},
+      {{"-f", "o.png", "--stats-json", "o_rate.png", "tiny.dae"}, "--stats-json"},
+      {{"--pfm", "x.pfm", "--stats-json", "./x.pfm", "tiny.dae"}, "--stats-json"},
+      {{"-c", "cam.txt", "--pfm", "cam.txt", "tiny.dae"}, "--pfm"},
+      {{"-c", "cam.txt", "-f", "cam.txt", "tiny.dae"}, "-f"},
+      {{"-e", "sky.exr", "--stats-json", "sky.exr", "tiny.dae"}, "--stats-json"},
+      {{"-f", "tiny.dae_rate.png", "--pfm", "tiny.dae_rate_rate.png", "tiny.dae"}, "--pfm"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args = {"-r", "8", "6"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    std::string shown;
+    for (const auto& a : args) shown += a + " ";
+    INFO("pathtracer " << shown);
+    const auto r = run_pathtracer(args, dir.path());
+    INFO("stderr: " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(count_lines(r.err) == 1);
+    CHECK(r.err.rfind("pathtracer: error: " + c.flag + " ", 0) == 0);
+    CHECK(r.out.empty());  // refused before loading anything
+    CHECK(read_bytes(scene) == scene_text);
+    CHECK(read_bytes(dir.file("sky.exr")) == "not really an image, but it must not be overwritten");
+    for (const std::string& f : test::list_dir(dir.path())) {
+      INFO("left behind: " << f);
+      CHECK((f == "tiny.dae" || f == "cam.txt" || f == "sky.exr"));
+    }
   }
 }

@@ -99,3 +99,48 @@ TEST_CASE("camera settings file (-c) is read, and malformed files are rejected",
 
   REQUIRE_THROWS_WITH(cam.load_settings(dir.file("missing.txt")), Catch::Contains("missing.txt"));
 }
+
+TEST_CASE("camera settings file (-c): degenerate axes, non-finite numbers and a bad focal distance are refused",
+          "[camera]") {
+  test::TempDir dir;
+  const std::string lines[6] = {"30 20 1.5 0.01 50", "1 2 3 0 0 0", "0 0 5 1 10", "1 0 0 0 1 0 0 0 1", "800 600 900",
+                                "4 0.1"};
+  // A file with line `which` (1-based) replaced by `text`.
+  auto file_with = [&](int which, const std::string& text) {
+    std::string s;
+    for (int i = 0; i < 6; ++i) s += (i + 1 == which ? text : lines[i]) + "\n";
+    const std::string path = dir.file("cam" + std::to_string(which) + ".txt");
+    test::write_text(path, s);
+    return path;
+  };
+  struct Case {
+    int line;
+    std::string text, needle;
+  };
+  const std::vector<Case> cases = {
+      {4, "0 0 0 0 0 0 0 0 0", "line 4"},          // zero axes
+      {4, "1 0 0 0 0 0 0 0 1", "line 4"},          // one zero axis
+      {4, "1 0 0 0 1 0 0 0 0", "line 4"},          // another
+      {4, "1 0 0 1 0 0 0 0 1", "line 4"},          // two parallel axes
+      {4, "2 0 0 0 2 0 0 0 2", "line 4"},          // not unit length: a scaled frame
+      {4, "-1 0 0 0 1 0 0 0 1", "line 4"},         // mirrored (left-handed)
+      {4, "1 0 0 0 1 0 0 0 nan", "nan"},
+      {4, "1 0 0 0 1 0 0 0 inf", "inf"},
+      {2, "1 2 nan 0 0 0", "nan"},
+      {1, "30 20 1.5 0.01 -inf", "-inf"},
+      {6, "0 0.1", "line 6"},                      // focal distance 0
+      {6, "-4 0.1", "line 6"},                     // negative focal distance
+      {6, "4 -0.1", "line 6"},                     // negative lens radius
+      {6, "4 1e999", "1e999"},
+  };
+  for (const Case& c : cases) {
+    INFO("line " << c.line << ": " << c.text);
+    Camera cam;
+    const std::string path = file_with(c.line, c.text);
+    CHECK_THROWS_WITH(cam.load_settings(path), Catch::Contains(path) && Catch::Contains(c.needle));
+  }
+  // A rotation written with six significant digits is accepted.
+  Camera cam;
+  cam.load_settings(file_with(4, "0.707107 0 0.707107 0 1 0 -0.707107 0 0.707107"));
+  CHECK(cam.axis_x.x == Approx(0.707107));
+}

@@ -1,7 +1,10 @@
 // Unit tests of the COLLADA loader on small hand-written documents.
+#include <sys/resource.h>
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <functional>
 #include <initializer_list>
 #include <sstream>
 #include <string>
@@ -1011,8 +1014,9 @@ TEST_CASE("bad primitive lists are errors naming the element", "[collada][errors
 
 TEST_CASE("malformed transforms are errors naming the element", "[collada][errors]") {
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"<matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0</matrix>", "<matrix>"},
       {"<matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 0</matrix>", "<matrix>"},
+      {"<matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 x</matrix>", "<matrix>"},  // short and not numeric
+      {"<matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 nan</matrix>", "<matrix>"},  // short and not finite
       {"<matrix>1 0 0 nan 0 1 0 0 0 0 1 0 0 0 0 1</matrix>", "<matrix>"},
       {"<matrix>1 0 0 inf 0 1 0 0 0 0 1 0 0 0 0 1</matrix>", "<matrix>"},
       {"<translate>1 2</translate>", "<translate>"},
@@ -1090,5 +1094,236 @@ TEST_CASE("warnings are one line and start with the file's path", "[collada]") {
   for (const std::string& w : l.warnings) {
     CHECK_THAT(w, StartsWith(l.path + ": <"));
     CHECK(w.find('\n') == std::string::npos);
+  }
+}
+
+// ---- Hostile and sloppy files ---------------------------------------------------------
+
+TEST_CASE("a <matrix> with fewer than 16 numbers reads the missing ones as 0, with a warning (course files)",
+          "[collada]") {
+  SECTION("the camera matrix of the course's CBgems.dae: 15 numbers, the camera still looks along -Z") {
+    Doc d = triangle_doc();
+    d.up_axis = "Z_UP";
+    d.cameras = camera("cam", "<xfov>49.13434</xfov><aspect_ratio>1.777778</aspect_ratio>");
+    d.nodes += node("<matrix sid=\"transform\">-1 0 0 0 0 0 1 3 0 0 0 0 0 0 1</matrix>",
+                    "<instance_camera url=\"#cam\"/>", "Camera");
+    const Loaded l = load(d);
+    CHECK(has_warning(l, "<matrix>", "15 numbers"));
+    CHECK(has_warning(l, "(line ", "read as 0"));
+    // Zero fill gives rows (-1 0 0 0) (0 0 1 3) (0 0 0 0); the point ahead of
+    // the camera, (0 0 -1), goes to (0, 2, 0) in the file, (0, 0, 2) in the
+    // world: the camera looks along -Z from +Z, as in the course.
+    check_vec(l.scene.camera.axis_z, 0, 0, 1);
+    CHECK(l.scene.camera.position.z > 1);
+  }
+  SECTION("geometry under a short matrix uses the zero-filled rows and an affine bottom row") {
+    const Loaded l = load(triangle_doc("<matrix>2 0 0 1  0 2 0 0  0 0 2</matrix>"));
+    CHECK(has_warning(l, "<matrix>", "11 numbers"));
+    REQUIRE(l.scene.triangles.size() == 1);
+    check_vec(l.scene.triangles[0].p1, 1, 0, 0);
+    check_vec(l.scene.triangles[0].p2, 3, 0, 0);
+    check_vec(l.scene.triangles[0].p3, 1, 2, 0);
+  }
+  SECTION("one warning per element, however often its node is instanced") {
+    Doc d = triangle_doc();
+    d.library_nodes = node("<matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0</matrix>", instance_geometry("tri"), "lib");
+    d.nodes = node("", "<instance_node url=\"#lib\"/><instance_node url=\"#lib\"/><instance_node url=\"#lib\"/>");
+    const Loaded l = load(d);
+    CHECK(l.scene.triangles.size() == 3);
+    int n = 0;
+    for (const std::string& w : l.warnings) n += w.find("<matrix>") != std::string::npos;
+    CHECK(n == 1);
+  }
+}
+
+TEST_CASE("a misspelt element inside a node is reported with a warning naming it and its line", "[collada]") {
+  Doc d = triangle_doc();
+  d.nodes = node("", instance_geometry("tri")) +
+            "\n<node id=\"lost\">\n<instance_geometery url=\"#tri\"/>\n</node>\n";
+  const Loaded l = load(d);
+  CHECK(l.scene.triangles.size() == 1);
+  CHECK(has_warning(l, "<instance_geometery> (line ", "<node id=\"lost\">"));
+  CHECK(has_warning(l, "<instance_geometery>", "ignored"));
+}
+
+TEST_CASE("unknown elements that would silently lose content are warned about everywhere the loader reads",
+          "[collada]") {
+  struct Case {
+    const char* name;
+    std::function<void(Doc&)> edit;
+    const char* element;
+  };
+  const std::vector<Case> cases = {
+      {"in the visual scene", [](Doc& d) { d.nodes += "<nod id=\"n\">" + instance_geometry("tri") + "</nod>"; },
+       "<nod id=\"n\">"},
+      {"in a mesh",
+       [](Doc& d) {
+         d.geometries = mesh("tri", {0, 0, 0, 1, 0, 0, 0, 1, 0},
+                             polylist("tri", "3", "0 1 2") + "<triangels count=\"1\"><p>0 1 2</p></triangels>");
+       },
+       "<triangels>"},
+      {"in a primitive list",
+       [](Doc& d) {
+         d.geometries = mesh("tri", {0, 0, 0, 1, 0, 0, 0, 1, 0},
+                             "<polygons count=\"1\">" + vertex_input("tri") + "<p>0 1 2</p><P>0 2 1</P></polygons>");
+       },
+       "<P>"},
+      {"in an instance_geometry",
+       [](Doc& d) {
+         d.materials = material("m", "fx");
+         d.effects = effect_common("fx", "lambert", "1 0 0");
+         d.nodes = node("", "<instance_geometry url=\"#tri\"><bind_materal><technique_common>"
+                            "<instance_material symbol=\"s\" target=\"#m\"/></technique_common></bind_materal>"
+                            "</instance_geometry>");
+       },
+       "<bind_materal>"},
+      {"in a bind_material",
+       [](Doc& d) {
+         d.materials = material("m", "fx");
+         d.effects = effect_common("fx", "lambert", "1 0 0");
+         d.nodes = node("", "<instance_geometry url=\"#tri\"><bind_material><technique_common>"
+                            "<instance_materiel symbol=\"s\" target=\"#m\"/></technique_common></bind_material>"
+                            "</instance_geometry>");
+       },
+       "<instance_materiel>"},
+      {"in a perspective",
+       [](Doc& d) {
+         d.cameras = camera("cam", "<xfov>40</xfov><yfovv>10</yfovv>");
+         d.nodes += node("<translate>0 0 5</translate>", "<instance_camera url=\"#cam\"/>");
+       },
+       "<yfovv>"},
+      {"in a point light",
+       [](Doc& d) {
+         d.lights = "<light id=\"L\"><technique_common><point><color>1 1 1</color>"
+                    "<linear_atenuation>1</linear_atenuation></point></technique_common></light>";
+         d.nodes += node("", "<instance_light url=\"#L\"/>");
+       },
+       "<linear_atenuation>"},
+      {"in a CGL material",
+       [](Doc& d) {
+         d.materials = material("m", "fx");
+         d.effects = effect_cgl("fx", "<glass><iorr>2</iorr></glass>");
+         d.nodes = node("", instance_geometry("tri", {{"s", "m"}}));
+       },
+       "<iorr>"},
+      {"in a profile_COMMON shading model",
+       [](Doc& d) {
+         d.materials = material("m", "fx");
+         d.effects = "<effect id=\"fx\"><profile_COMMON><technique sid=\"common\"><phong><difuse><color>1 0 0 1"
+                     "</color></difuse></phong></technique></profile_COMMON></effect>";
+         d.nodes = node("", instance_geometry("tri", {{"s", "m"}}));
+       },
+       "<difuse>"},
+      {"in <scene>",
+       [](Doc& d) { d.scene = "<scene><instance_visual_scen url=\"#Scene\"/></scene>"; },
+       "<instance_visual_scen>"},
+  };
+  for (const Case& c : cases) {
+    SECTION(c.name) {
+      Doc d = triangle_doc();
+      c.edit(d);
+      const Loaded l = load(d);
+      INFO("warnings:");
+      for (const std::string& w : l.warnings) INFO(w);
+      CHECK(has_warning(l, std::string(c.element) + " (line ", "ignored"));
+    }
+  }
+}
+
+TEST_CASE("elements COLLADA allows but the loader does not need stay quiet", "[collada]") {
+  Doc d = triangle_doc();
+  d.cameras = camera("cam", "<xfov sid=\"xfov\">40</xfov><znear>0.1</znear><zfar>100</zfar>");
+  d.materials = material("m", "fx");
+  d.effects = "<effect id=\"fx\"><profile_COMMON><technique sid=\"common\"><phong><emission><color>0 0 0 1</color>"
+              "</emission><ambient><color>0 0 0 1</color></ambient><diffuse><color>1 0 0 1</color></diffuse>"
+              "<specular><color>0 0 0 1</color></specular><shininess><float>1</float></shininess>"
+              "<index_of_refraction><float>1</float></index_of_refraction></phong></technique>"
+              "<extra/></profile_COMMON></effect>";
+  d.lights = "<light id=\"L\"><technique_common><point><color>1 1 1</color><constant_attenuation>1"
+             "</constant_attenuation><linear_attenuation>0</linear_attenuation><quadratic_attenuation>0"
+             "</quadratic_attenuation></point></technique_common></light>";
+  d.nodes = "<node id=\"a\"><asset/><translate>0 0 0</translate><instance_geometry url=\"#tri\"><bind_material>"
+            "<technique_common><instance_material symbol=\"s\" target=\"#m\"/></technique_common>"
+            "<extra/></bind_material><extra/></instance_geometry><extra><technique profile=\"blender\">"
+            "<layer>L1</layer></technique></extra></node>" +
+            node("<translate>0 0 5</translate>", "<instance_camera url=\"#cam\"/><instance_light url=\"#L\"/>") +
+            "<extra/>";
+  const Loaded l = load(d);
+  for (const std::string& w : l.warnings) FAIL_CHECK("unexpected warning: " << w);
+  CHECK(l.scene.triangles.size() == 1);
+}
+
+TEST_CASE("exponential instancing stops at the primitive limit before the memory is taken", "[collada][errors]") {
+  // A 256-triangle mesh placed by four levels of 16 instance_nodes each:
+  // 65536 instances, 16.8 million triangles (1.3 GB) from a few kilobytes.
+  std::vector<double> xyz;
+  std::string vcount, p;
+  for (int i = 0; i < 256; ++i) {
+    const double x = i;
+    for (double v : {x, 0.0, 0.0, x + 1, 0.0, 0.0, x, 1.0, 0.0}) xyz.push_back(v);
+    vcount += "3 ";
+    p += std::to_string(3 * i) + " " + std::to_string(3 * i + 1) + " " + std::to_string(3 * i + 2) + " ";
+  }
+  Doc d;
+  d.geometries = mesh("g", xyz, polylist("g", vcount, p));
+  d.library_nodes = node("", instance_geometry("g"), "n0");
+  for (int level = 1; level <= 4; ++level) {
+    std::string inner;
+    for (int k = 0; k < 16; ++k)
+      inner += "<instance_node url=\"#n" + std::to_string(level - 1) + "\"/>";
+    d.library_nodes += node("", inner, "n" + std::to_string(level));
+  }
+  d.nodes = node("", "<instance_node url=\"#n4\"/>");
+  const std::string text = d.str();
+  CHECK(text.size() < 20000);
+  // With the address space limited to 1.5 GB the whole scene cannot be
+  // allocated: the loader must stop at its limit first.
+  rlimit old{};
+  REQUIRE(getrlimit(RLIMIT_AS, &old) == 0);
+  const rlimit lim{rlim_t(1536) << 20, old.rlim_max};
+  REQUIRE(setrlimit(RLIMIT_AS, &lim) == 0);
+  const std::string m = error_of(text);
+  setrlimit(RLIMIT_AS, &old);
+  CHECK_THAT(m, Contains("4000000") && Contains("limit"));
+  CHECK_THAT(m, !Contains("memory"));
+}
+
+TEST_CASE("numbers that overflow single precision are refused, not turned into infinity (fuzz findings)",
+          "[collada][errors]") {
+  SECTION("a sphere so large that the camera would stand at infinity") {
+    Doc d;
+    d.geometries = "<geometry id=\"ball\"><extra><technique profile=\"CGL\"><sphere><radius>3.4e38</radius>"
+                   "</sphere></technique></extra></geometry>";
+    d.nodes = node("", instance_geometry("ball"));
+    CHECK_THAT(error_of(d), Contains("<visual_scene id=\"Scene\">") && Contains("too large for single-precision"));
+  }
+  SECTION("a light colour beyond float range") {
+    Doc d = triangle_doc();
+    d.lights = light("L", "<point><color>3.5e38 5 5</color></point>");
+    d.nodes += node("", instance_light("L"));
+    CHECK_THAT(error_of(d), Contains("<color>") && Contains("too large for single precision"));
+  }
+  SECTION("an attenuation beyond float range") {
+    Doc d = triangle_doc();
+    d.lights = light("L", "<point><color>1 1 1</color><constant_attenuation>1e39</constant_attenuation></point>");
+    d.nodes += node("", instance_light("L"));
+    CHECK_THAT(error_of(d), Contains("<constant_attenuation>") && Contains("too large"));
+  }
+}
+
+TEST_CASE("an aspect ratio that leaves no field of view is refused (fuzz finding)", "[collada][camera][errors]") {
+  for (const char* aspect : {"1e-320", "1e-300"}) {
+    SECTION(aspect) {
+      Doc d = triangle_doc();
+      d.cameras = camera("cam", std::string("<xfov>49.13</xfov><aspect_ratio>") + aspect + "</aspect_ratio>");
+      d.nodes += node("<translate>0 0 5</translate>", "<instance_camera url=\"#cam\"/>");
+      CHECK_THAT(error_of(d), Contains("<perspective>") && Contains("field of view"));
+    }
+  }
+  SECTION("a field of view too narrow to fit the frame") {
+    Doc d = triangle_doc();
+    d.cameras = camera("cam", "<xfov>1e-320</xfov><yfov>1e-320</yfov>");
+    d.nodes += node("<translate>0 0 5</translate>", "<instance_camera url=\"#cam\"/>");
+    CHECK_THAT(error_of(d), Contains("<perspective>") && Contains("field of view"));
   }
 }

@@ -5,8 +5,15 @@
 // under a uniform sky reflects albedo * L. It catches a wrong sphere pdf
 // (e.g. 1 / (2 pi)), a missing cosine, and samples below the plane kept.
 #include <ImfRgbaFile.h>
+#include <ImfTiledRgbaFile.h>
+#include <sys/resource.h>
+
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
 
 #include "brute_force.h"
 #include "direct_lighting.h"
@@ -117,4 +124,132 @@ TEST_CASE("the command line renders with an environment map: the sky is seen and
   for (int y = 290; y < 310; ++y)
     for (int x = 390; x < 410; ++x) sum += img.at(x, y).x;
   CHECK(sum / 400 == Approx(0.125).margin(0.008));
+}
+
+namespace {
+std::string read_all(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+// Rewrites the data window of an EXR file's header to (0,0)-(w-1,h-1).
+void set_data_window(const std::string& path, int w, int h) {
+  std::string bytes = read_all(path);
+  const std::string key = std::string("dataWindow") + '\0' + "box2i" + '\0';
+  const size_t at = bytes.find(key);
+  REQUIRE(at != std::string::npos);
+  const size_t box = at + key.size() + 4;  // after the attribute's size
+  const int32_t v[4] = {0, 0, w - 1, h - 1};
+  std::memcpy(&bytes[box], v, sizeof v);
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// Limits this process's address space for the lifetime of the object.
+struct AddressSpaceLimit {
+  rlimit old{};
+  explicit AddressSpaceLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_AS, &old);
+    const rlimit lim{bytes, old.rlim_max};
+    setrlimit(RLIMIT_AS, &lim);
+  }
+  ~AddressSpaceLimit() { setrlimit(RLIMIT_AS, &old); }
+};
+}  // namespace
+
+TEST_CASE("environment map: a header claiming a huge image is refused before anything is allocated",
+          "[environment]") {
+  test::TempDir dir;
+  const std::string path = dir.file("huge.exr");
+  write_exr(path, 4, 2, [](int, int) { return Color(1.0f); });
+  set_data_window(path, 65536, 65536);  // 32 GiB of pixels claimed by a file of a few hundred bytes
+  const AddressSpaceLimit limit(rlim_t(2) << 30);
+  CHECK_THROWS_WITH(load_environment_map(path), Catch::Contains(path) && Catch::Contains("65536x65536"));
+}
+
+TEST_CASE("environment map: a header claiming more pixels than the file can hold is refused", "[environment]") {
+  test::TempDir dir;
+  const std::string path = dir.file("short.exr");
+  // Uncompressed: every pixel is in the file, so 4096 x 4096 needs 128 MB.
+  std::vector<Imf::Rgba> px(8, Imf::Rgba(1, 1, 1, 1));
+  {
+    Imf::RgbaOutputFile file(path.c_str(), 4, 2, Imf::WRITE_RGBA, 1, Imath::V2f(0, 0), 1, Imf::INCREASING_Y,
+                             Imf::NO_COMPRESSION);
+    file.setFrameBuffer(px.data(), 1, 4);
+    file.writePixels(2);
+  }
+  set_data_window(path, 4096, 4096);
+  CHECK_THROWS_WITH(load_environment_map(path), Catch::Contains(path) && Catch::Contains("4096x4096") &&
+                                                    Catch::Contains("bytes"));
+}
+
+TEST_CASE("environment map: a direction with NaN or infinite components still finds a texel", "[environment]") {
+  test::TempDir dir;
+  write_exr(dir.file("sky.exr"), 8, 4, [](int x, int y) { return Color(float(x), float(y), 1.0f); });
+  const EnvironmentMap env = load_environment_map(dir.file("sky.exr"));
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (const Vec3& d : {Vec3(nan, nan, nan), Vec3(inf, 0, 0), Vec3(0, -inf, inf), Vec3(nan, 1, 0), Vec3(0, 0, 0),
+                        Vec3(1e38f, 1e38f, -1e38f)}) {
+    const Color c = env.lookup(d);
+    CHECK(c.z == 1.0f);
+    CHECK((c.x >= 0 && c.x <= 7 && c.y >= 0 && c.y <= 3));
+  }
+}
+
+namespace {
+// The offset of the value of header attribute `name` in an EXR file.
+size_t attribute_value(const std::string& bytes, const std::string& name, const std::string& type) {
+  const std::string key = name + '\0' + type + '\0';
+  const size_t at = bytes.find(key);
+  REQUIRE(at != std::string::npos);
+  return at + key.size() + 4;
+}
+}  // namespace
+
+TEST_CASE("environment map: malformed header attributes are refused before OpenEXR allocates for them (fuzz findings)",
+          "[environment]") {
+  test::TempDir dir;
+  const std::string good = dir.file("good.exr");
+  write_exr(good, 4, 2, [](int, int) { return Color(1.0f); });
+  const std::string bytes = read_all(good);
+  const AddressSpaceLimit limit(rlim_t(1) << 30);  // a 1.8 GB allocation would fail
+  SECTION("an attribute claiming more bytes than the file holds") {
+    std::string b = bytes;
+    const int32_t size = 1879048192;
+    std::memcpy(&b[attribute_value(b, "screenWindowWidth", "float") - 4], &size, 4);
+    std::ofstream(dir.file("a.exr"), std::ios::binary) << b;
+    CHECK_THROWS_WITH(load_environment_map(dir.file("a.exr")),
+                      Catch::Contains("screenWindowWidth") && Catch::Contains("more than the file holds"));
+  }
+  SECTION("a fixed-size attribute of the wrong size") {
+    std::string b = bytes;
+    const int32_t size = 11;
+    std::memcpy(&b[attribute_value(b, "dataWindow", "box2i") - 4], &size, 4);
+    std::ofstream(dir.file("b.exr"), std::ios::binary) << b;
+    CHECK_THROWS_WITH(load_environment_map(dir.file("b.exr")),
+                      Catch::Contains("dataWindow") && Catch::Contains("not 16"));
+  }
+  SECTION("a channel list that does not fill its size") {
+    std::string b = bytes;
+    b[attribute_value(b, "channels", "chlist")] = '\0';  // the list ends at once, but its size says more
+    std::ofstream(dir.file("c.exr"), std::ios::binary) << b;
+    CHECK_THROWS_WITH(load_environment_map(dir.file("c.exr")), Catch::Contains("channels") && Catch::Contains("malformed"));
+  }
+}
+
+TEST_CASE("environment map: tiles too large to buffer are refused (fuzz finding)", "[environment]") {
+  test::TempDir dir;
+  const std::string path = dir.file("tiled.exr");
+  std::vector<Imf::Rgba> px(8, Imf::Rgba(1, 1, 1, 1));
+  {
+    Imf::TiledRgbaOutputFile f(path.c_str(), 4, 2, 4, 4, Imf::ONE_LEVEL, Imf::ROUND_DOWN, Imf::WRITE_RGBA);
+    f.setFrameBuffer(px.data(), 1, 4);
+    f.writeTiles(0, f.numXTiles() - 1, 0, f.numYTiles() - 1);
+  }
+  CHECK(load_environment_map(path).width == 4);  // as written, it reads
+  std::string b = read_all(path);
+  const uint32_t tall = 33554436;
+  std::memcpy(&b[attribute_value(b, "tiles", "tiledesc") + 4], &tall, 4);
+  std::ofstream(path, std::ios::binary) << b;
+  const AddressSpaceLimit limit(rlim_t(1) << 30);
+  CHECK_THROWS_WITH(load_environment_map(path), Catch::Contains("tiles of 4x33554436"));
 }

@@ -1,7 +1,9 @@
 // Image conversion and files: the course's 8-bit curve, the rate colour
-// map, orientation, PFM round trips and atomic writes.
+// map, orientation, PFM round trips, atomic writes, sets of outputs
+// written all or nothing, and the check of output paths.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "image_io.h"
@@ -96,4 +98,60 @@ TEST_CASE("writes are atomic: nothing is left behind on success or failure", "[i
   CHECK(test::list_dir(dir.path()) == std::vector<std::string>{"x.bin"});
   CHECK_THROWS_WITH(write_file_atomically(dir.file("no/such/dir/x.bin"), {1}), Catch::Contains("no/such/dir"));
   CHECK(test::list_dir(dir.path()) == std::vector<std::string>{"x.bin"});
+}
+
+TEST_CASE("a set of output files is written all or nothing", "[image]") {
+  test::TempDir dir;
+  const std::vector<uint8_t> bytes = {'o', 'k'};
+  SECTION("all renamed into place on commit, no temporary left") {
+    AtomicFileSet files;
+    files.add(dir.file("a.png"), bytes);
+    files.add(dir.file("b.pfm"), bytes);
+    CHECK_FALSE(test::file_exists(dir.file("a.png")));  // nothing in place before the commit
+    files.commit();
+    CHECK(test::list_dir(dir.path()).size() == 2);
+    CHECK(test::file_exists(dir.file("a.png")));
+    CHECK(test::file_exists(dir.file("b.pfm")));
+  }
+  SECTION("a set dropped before its commit leaves nothing") {
+    {
+      AtomicFileSet files;
+      files.add(dir.file("a.png"), bytes);
+    }
+    CHECK(test::list_dir(dir.path()).empty());
+  }
+  SECTION("a failing add leaves nothing") {
+    {
+      AtomicFileSet files;
+      files.add(dir.file("a.png"), bytes);
+      CHECK_THROWS_WITH(files.add(dir.file("missing/b.pfm"), bytes), Catch::Contains("missing/b.pfm"));
+    }
+    CHECK(test::list_dir(dir.path()).empty());
+  }
+  SECTION("a rename failing in the commit removes the files already renamed") {
+    std::filesystem::create_directory(dir.file("c.json"));
+    std::filesystem::create_directory(dir.file("c.json/inner"));  // a folder that is not empty cannot be replaced
+    AtomicFileSet files;
+    files.add(dir.file("a.png"), bytes);
+    files.add(dir.file("c.json"), bytes);
+    CHECK_THROWS_WITH(files.commit(), Catch::Contains("c.json"));
+    const auto left = test::list_dir(dir.path());
+    CHECK(left == std::vector<std::string>{"c.json"});
+  }
+}
+
+TEST_CASE("output paths are checked before anything is written", "[image]") {
+  test::TempDir dir;
+  CHECK_NOTHROW(check_output_path(dir.file("new.png")));
+  test::write_text(dir.file("old.png"), "x");
+  CHECK_NOTHROW(check_output_path(dir.file("old.png")));  // replaced by the write
+  std::filesystem::create_directory(dir.file("folder.png"));
+  CHECK_THROWS_WITH(check_output_path(dir.file("folder.png")), Catch::Contains("folder.png") && Catch::Contains("folder"));
+  CHECK_THROWS_WITH(check_output_path(dir.file("none/x.png")), Catch::Contains("none") && Catch::Contains("does not exist"));
+  CHECK_THROWS_WITH(check_output_path(dir.file(std::string(252, 'n') + ".png")), Catch::Contains("cannot write"));
+  CHECK_THROWS_WITH(check_output_path("/dev/null"), Catch::Contains("not a regular file"));
+  CHECK_THROWS(check_output_path(""));
+  // The probe leaves nothing behind.
+  const auto left = test::list_dir(dir.path());
+  CHECK(left.size() == 2);
 }

@@ -170,11 +170,11 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
                     img.channels_failed, img.channels_tested, img.max_abs_difference, img.mean_candidate,
                     img.mean_reference);
     else {
-      std::string parts = fmt("%d of ", img.channels_failed) + fmt("%d pixel channels beyond ", img.channels_tested) +
-                          fmt("|z| = %.2f", img.pixel_threshold);
+      std::string parts = std::to_string(img.channels_failed) + " of " + std::to_string(img.channels_tested) +
+                          " pixel channels beyond " + fmt("|z| = %.2f", img.pixel_threshold);
       if (img.blocks_tested > 0)
-        parts += fmt(", %d of ", img.blocks_failed) + fmt("%d blocks beyond ", img.blocks_tested) +
-                 fmt("|z| = %.2f", img.block_threshold);
+        parts += ", " + std::to_string(img.blocks_failed) + " of " + std::to_string(img.blocks_tested) +
+                 " blocks beyond " + fmt("|z| = %.2f", img.block_threshold);
       if (img.mean_tested)
         parts += fmt(", image mean |z| = %.1f", img.max_mean_z()) + fmt(" (limit %.2f)", img.mean_threshold);
       std::snprintf(buf, sizeof buf, "image differs from the reference: %s; mean radiance %.4g vs %.4g", parts.c_str(),
@@ -190,9 +190,10 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
     const ImageScore rate = score_image(out.rate, ref.rate_mean, ref.rate_variance, ref.runs, ro);
     r.metric += "; rate: " + rate.summary();
     if (!rate.passed) {
-      problems.push_back(fmt("sample-rate image differs: %d of ", rate.channels_failed) +
-                         fmt("%d pixels beyond ", rate.channels_tested) + fmt("|z| = %.2f, ", rate.pixel_threshold) +
-                         fmt("%d of ", rate.blocks_failed) + fmt("%d blocks off, ", rate.blocks_tested) +
+      problems.push_back("sample-rate image differs: " + std::to_string(rate.channels_failed) + " of " +
+                         std::to_string(rate.channels_tested) + " pixels beyond " +
+                         fmt("|z| = %.2f, ", rate.pixel_threshold) + std::to_string(rate.blocks_failed) + " of " +
+                         std::to_string(rate.blocks_tested) + " blocks off, " +
                          fmt("mean |z| = %.1f; ", rate.max_mean_z()) + fmt("mean rate %.3f vs ", rate.mean_candidate) +
                          fmt("%.3f", rate.mean_reference));
       credit = std::min(credit, partial_credit(rate, c.points));

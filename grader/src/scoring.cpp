@@ -190,7 +190,7 @@ ImageScore score_image(const Image& cand, const Image& mean, const Image& var, i
   if (opts.mean_test) {
     s.mean_tested = true;
     const int channels = std::min(nc, 3);
-    s.mean_threshold = normal_two_sided_threshold(sidak_level(opts.alpha, channels));
+    s.mean_threshold = normal_two_sided_threshold(sidak_level(opts.mean_alpha, channels));
     for (int c = 0; c < channels; ++c) {
       const double se = std::sqrt(channel_v[c]);
       s.mean_z[c] = se > 0 ? channel_d[c] / se : 0.0;

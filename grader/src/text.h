@@ -4,7 +4,7 @@
 
 namespace grader {
 
-// printf of one number: fmt("%.2f s", 1.5) == "1.50 s".
+// printf of one double: fmt("%.2f s", 1.5) == "1.50 s" (so never %d).
 std::string fmt(const char* format, double v);
 // "42 s", "3.5 min".
 std::string fmt_seconds(double s);

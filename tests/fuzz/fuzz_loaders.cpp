@@ -11,7 +11,9 @@
 // the readers' contract: an input is either read, giving a scene (or camera,
 // or map) whose numbers are finite and consistent, or refused with the
 // documented exception whose message is one line starting with the file's
-// path; warnings are one line starting with the path. The same seed gives
+// path; warnings are one line starting with the path. A scene that loads
+// also gets a BVH (part 2's build, sanitized too) and a few rays through it.
+// The same seed gives
 // the same inputs, so a finding can be replayed.
 //
 //   fuzz_loaders [--seed N] [--iterations N] [--seconds S] [--max-seed-bytes N]
@@ -28,6 +30,8 @@
 #include <unistd.h>
 
 #include <ImfRgbaFile.h>
+
+#include <array>
 #include <ImfTiledRgbaFile.h>
 
 #include <algorithm>
@@ -49,6 +53,7 @@
 #include <typeinfo>
 #include <vector>
 
+#include "bvh.h"
 #include "camera.h"
 #include "collada.h"
 #include "environment.h"
@@ -383,6 +388,34 @@ std::string check_scene(const pt::Scene& s) {
   return "";
 }
 
+// The BVH over a loaded scene (part 2's build, under the sanitizers: its
+// binning turns centroid coordinates into bin numbers, which a scene with
+// coordinates near 1e38 or a zero extent must not make undefined), and a
+// few rays through it: every hit inside the ray's interval, with a unit
+// normal. Scenes over kMaxBvhPrimitives are skipped to keep runs short.
+constexpr size_t kMaxBvhPrimitives = 20000;
+
+std::string check_bvh(const pt::Scene& s, Random& rng) {
+  if (s.num_primitives() > kMaxBvhPrimitives) return "";
+  const pt::BVH bvh(s);
+  const pt::BBox b = s.bounds();
+  for (int i = 0; i < 16; ++i) {
+    const auto lerp = [&](float lo, float hi) { return float(lo + (double(hi) - lo) * rng.uniform()); };
+    const pt::Vec3 o(lerp(b.lo.x, b.hi.x), lerp(b.lo.y, b.hi.y), lerp(b.lo.z, b.hi.z));
+    pt::Vec3 d(float(rng.uniform() * 2 - 1), float(rng.uniform() * 2 - 1), float(rng.uniform() * 2 - 1));
+    if (pt::norm(d) < 1e-3f) continue;
+    d = pt::normalize(d);
+    pt::Ray r(o, d, 1e-4f, std::numeric_limits<float>::infinity());
+    pt::Hit hit;
+    if (bvh.intersect(r, &hit)) {
+      if (!(hit.t >= 1e-4f && hit.t == r.max_t)) return "a BVH hit lies outside the ray's interval";
+      if (!unit(hit.n)) return "a BVH hit's normal is not unit length";
+    }
+    bvh.occluded(pt::Ray(o, d, 1e-4f, 1.0f));
+  }
+  return "";
+}
+
 std::string check_camera(const pt::Camera& c, Random& rng) {
   if (!pt::is_finite(c.position) || !std::isfinite(c.focal_distance) || !(c.focal_distance > 0) ||
       !(c.lens_radius >= 0) || !std::isfinite(c.lens_radius))
@@ -420,6 +453,7 @@ Outcome read_input(Kind kind, const std::string& path, Random& rng) {
       for (const std::string& w : warnings)
         if (!one_line_from(w, path)) o.finding = "a warning is not one line starting with the path: " + w;
       if (o.finding.empty()) o.finding = check_scene(scene);
+      if (o.finding.empty()) o.finding = check_bvh(scene, rng);
       o.key = k + " loaded" + (warnings.empty() ? "" : " with warnings: " + shape(path, warnings.front()));
     } else if (kind == Kind::Camera) {
       pt::Camera cam;
@@ -507,6 +541,42 @@ void write_exr_seeds(const std::string& dir, std::vector<Seed>* seeds) {
   }
 }
 
+// Fixed probes of the BVH build at the edges of float that random
+// mutation seldom reaches: coordinates spanning +-3e38 (extents and
+// centroids overflow to infinity), one centroid shared by every triangle,
+// and triangles a few denormals wide. Under the sanitizers, a bin number
+// converted from NaN or infinity aborts the run here.
+std::string probe_bvh_extremes() {
+  const float big = 3.0e38f, tiny = 1e-42f;
+  const auto scene_of = [](const std::vector<std::array<pt::Vec3, 3>>& tris) {
+    pt::Scene s;
+    s.materials.push_back(pt::Material{});
+    for (const auto& t : tris) {
+      pt::Triangle tri;
+      tri.p1 = t[0], tri.p2 = t[1], tri.p3 = t[2];
+      tri.n1 = tri.n2 = tri.n3 = pt::Vec3(0, 0, 1);
+      s.triangles.push_back(tri);
+    }
+    return s;
+  };
+  std::vector<std::vector<std::array<pt::Vec3, 3>>> cases(3);
+  for (int i = 0; i < 40; ++i) {
+    const float x = (i % 2 ? big : -big) * (1.0f - 0.01f * float(i));
+    cases[0].push_back({pt::Vec3(x, 0, 0), pt::Vec3(x, 1, 0), pt::Vec3(-x, 0, 1)});
+    cases[1].push_back({pt::Vec3(-1, -1, 0), pt::Vec3(1, 1, 0), pt::Vec3(0, 0, float(i % 3) - 1)});
+    cases[2].push_back({pt::Vec3(tiny * float(i), 0, 0), pt::Vec3(tiny * float(i + 1), 0, 0), pt::Vec3(0, tiny, 0)});
+  }
+  for (const auto& c : cases) {
+    const pt::Scene s = scene_of(c);
+    const pt::BVH bvh(s);
+    pt::Ray r(pt::Vec3(0, 0, -1), pt::Vec3(0, 0, 1), 0.0f, std::numeric_limits<float>::infinity());
+    pt::Hit hit;
+    bvh.intersect(r, &hit);
+    if (bvh.leaf_primitives().size() != s.num_primitives()) return "the BVH lost primitives";
+  }
+  return "";
+}
+
 int usage(const char* msg) {
   std::fprintf(stderr,
                "fuzz_loaders: %s\nusage: fuzz_loaders [--seed N] [--iterations N] [--seconds S] "
@@ -558,6 +628,12 @@ int main(int argc, char** argv) {
     own_work = true;
   }
   fs::create_directories(work);
+
+  g_current_label = "the fixed BVH probes";
+  if (const std::string finding = probe_bvh_extremes(); !finding.empty()) {
+    std::fprintf(stderr, "fuzz_loaders: finding in %s: %s\n", g_current_label.c_str(), finding.c_str());
+    return 1;
+  }
 
   // Seeds: the inputs, and generated EXR files.
   std::vector<Seed> seeds;

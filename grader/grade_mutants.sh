@@ -214,7 +214,7 @@ for name in "${names[@]}"; do
     by=$(parts_of "$failed")
   fi
   own=$([[ " $by " == *" $part "* ]] && echo yes || echo no)
-  rows+=("| $name | $part | $score / $max | $nfailed: ${failed//,/, } | ${by:--} | $caught$([ "$caught" = yes ] && [ "$own" = no ] && echo ' (not by its part)') |")
+  rows+=("| $name | $part | $score / $max | $nfailed: ${failed//,/, } | ${by:--} | $caught$([ "$caught" = yes ] && [ "$own" = no ] && echo ' (not by its part)' || true) |")
   echo "   caught: $caught ($nfailed cases lose points; parts: ${by:--})"
 done
 

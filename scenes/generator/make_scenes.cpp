@@ -179,6 +179,23 @@ const V3 kSphereFrontRight{0.4, 0.3, 0.3};
 const V3 kSphereBackLeft{-0.4, 0.3, -0.3};
 const double kSphereRadius = 0.3;
 
+// The quadratic attenuation of the course's point lights (almost none).
+const double kCourseFalloff = 0.0016;
+
+// A point light of `intensity` at `at`, attenuated by
+// 1 / (1 + quadratic d^2).
+Light point_light(const std::string& name, V3 at, Rgb intensity, double quadratic) {
+  Light p;
+  p.name = name;
+  p.kind = LightKind::Point;
+  p.color = intensity;
+  p.constant_attenuation = 1;
+  p.linear_attenuation = 0;
+  p.quadratic_attenuation = quadratic;
+  p.node = zup_frame(at);
+  return p;
+}
+
 // ---------------------------------------------------------------------------
 // The scenes
 
@@ -188,16 +205,8 @@ Scene cb_empty() {
   s.purpose = "Cornell box lit by one point light (intensity 5, course attenuation), "
               "emissive ceiling quad, no objects";
   add_cornell_box(s);
-  Light p;
-  p.name = "PointLight";
-  p.kind = LightKind::Point;
-  p.color = {5, 5, 5};
-  p.constant_attenuation = 1;
-  p.linear_attenuation = 0;
-  p.quadratic_attenuation = 0.0016;
   // At the centre of the ceiling light's plane, as in the course's file.
-  p.node = zup_frame({0, kLightHeight, 0});
-  s.lights.push_back(p);
+  s.lights.push_back(point_light("PointLight", {0, kLightHeight, 0}, {5, 5, 5}, kCourseFalloff));
   s.camera = course_camera(s, {0, 0, 1});
   return s;
 }
@@ -324,12 +333,7 @@ Scene depth_order() {
   s.meshes.push_back(facing_quad("backWall", "back", {0, 0.75, -0.6}, {0, 0, 1}, 1, 0.75));
   s.spheres.push_back({"SphereFront", "front", {0.35, 0.9, 0.5}, 0.25});
   s.spheres.push_back({"SphereBack", "middle", {0.5, 0.75, -0.2}, 0.3});
-  Light p;
-  p.name = "PointLight";
-  p.kind = LightKind::Point;
-  p.color = {3, 3, 3};
-  p.node = zup_frame({0, 1.4, 1.0});
-  s.lights.push_back(p);
+  s.lights.push_back(point_light("PointLight", {0, 1.4, 1.0}, {3, 3, 3}, 0));
   s.camera = course_camera(s, {0, 0, 1});
   return s;
 }
@@ -374,18 +378,8 @@ Scene cb_lights() {
   s.materials.push_back(diffuse("lambertian", {0.8, 0.8, 0.8}));
   add_ceiling_light(s, "lightWarm", -0.45, -0.2, 0.4, 0.3, {8, 6, 4});
   add_ceiling_light(s, "lightCool", 0.5, 0.3, 0.3, 0.5, {3, 5, 9});
-  const auto point = [&](const std::string& name, V3 at, Rgb intensity) {
-    Light p;
-    p.name = name;
-    p.kind = LightKind::Point;
-    p.color = intensity;
-    p.constant_attenuation = 1;
-    p.quadratic_attenuation = 0.0016;
-    p.node = zup_frame(at);
-    s.lights.push_back(p);
-  };
-  point("PointLightLeft", {-0.55, 1.1, 0.55}, {1.2, 1.0, 0.6});
-  point("PointLightRight", {0.6, 0.8, -0.5}, {0.5, 0.8, 1.4});
+  s.lights.push_back(point_light("PointLightLeft", {-0.55, 1.1, 0.55}, {1.2, 1.0, 0.6}, kCourseFalloff));
+  s.lights.push_back(point_light("PointLightRight", {0.6, 0.8, -0.5}, {0.5, 0.8, 1.4}, kCourseFalloff));
   s.spheres.push_back({"SphereFrontRight", "lambertian", kSphereFrontRight, kSphereRadius});
   s.spheres.push_back({"SphereBackLeft", "lambertian", kSphereBackLeft, kSphereRadius});
   s.camera = course_camera(s, {0, 0, 1});

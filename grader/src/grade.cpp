@@ -296,6 +296,11 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   return r;
 }
 
+bool not_implemented(const CaseResult& r) {
+  return std::any_of(r.todo.begin(), r.todo.end(),
+                     [&](const std::string& t) { return todo_dooms(todo_part(t), r.c.part); });
+}
+
 std::string case_result_json(const CaseResult& r) {
   std::string s = "{\n";
   const auto field = [&](const char* k, const std::string& v, bool last = false) {

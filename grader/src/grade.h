@@ -64,6 +64,10 @@ ScoreOptions case_score_options(const Case& c, const Reference& ref);
 CaseResult grade_case(const RunSettings& run, const std::string& reference_root, const Case& c,
                       uint64_t seed, const std::string& case_dir, const CostBounds& bounds);
 
+// Whether the case's render printed a TODO line that dooms it (a stub of
+// its own part or an earlier one, see todo_dooms): "not implemented".
+bool not_implemented(const CaseResult& r);
+
 // Per-case results survive as JSON so that shards can be merged.
 std::string case_result_json(const CaseResult& r);
 bool case_result_from_json(const Json& j, CaseResult* r);

@@ -123,7 +123,7 @@ std::string terminal_table(const std::vector<CaseResult>& rs) {
       if (r.c.part != part) continue;
       ++cases;
       passed += r.verdict == Verdict::Passed;
-      missing += r.message.find(" not implemented (TODO: ") != std::string::npos;
+      missing += not_implemented(r);
       score += r.score;
       max += r.max_score;
     }

@@ -1,6 +1,7 @@
 #include "sphere.h"
 
 #include <cmath>
+#include <limits>
 
 #include "todo.h"
 
@@ -30,10 +31,23 @@ bool intersect_sphere(const Sphere& s, Ray& r, Hit* hit) {
     t = t2;
   else
     return false;
+  if (!(t <= double(std::numeric_limits<float>::max()))) return false;  // beyond what a float t can hold
   r.max_t = float(t);
   if (hit) {
     hit->t = float(t);
-    hit->n = normalize(r.at(float(t)) - s.center);
+    const Vec3 outward = r.at(float(t)) - s.center;
+    const float length = norm(outward);
+    if (length > 0.0f && std::isfinite(length)) {
+      hit->n = normalize(outward);
+    } else {
+      // Its squared length overflowed (a radius past ~1e19) or the hit
+      // point lost every digit (a ray from ~1e38 away): in double it is
+      // exact enough, and facing the ray is all that is left when even
+      // that cancels to zero.
+      const Vec3d v = oc + d * t;
+      const double lv = norm(v);
+      hit->n = lv > 0.0 && std::isfinite(lv) ? Vec3(v / lv) : normalize(-r.d);
+    }
     hit->material = s.material;
   }
   return true;

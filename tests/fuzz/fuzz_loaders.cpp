@@ -17,14 +17,17 @@
 // the same inputs, so a finding can be replayed.
 //
 //   fuzz_loaders [--seed N] [--iterations N] [--seconds S] [--max-seed-bytes N]
-//                [--timeout S] [--work DIR] INPUT...
+//                [--timeout S] [--work DIR] [--skip-without PATH] INPUT...
 //
 // INPUTs are files or folders (whose .dae, .exr and .txt files are taken);
-// one that does not exist is skipped with a note. .dae files are scenes,
+// one that does not exist is an error, so that a run's seed set never
+// changes silently. --skip-without PATH makes the run exit with 77 (ctest's
+// "skipped") when PATH is absent: the run over the course's scenes, which
+// may not be beside the checkout, is its own test. .dae files are scenes,
 // .exr files environment maps, anything else a camera settings file. Seeds
 // larger than --max-seed-bytes (default 400000) are read once unmutated but
 // not mutated. Exit status 0 when nothing was found, 1 on a finding, 2 on
-// bad arguments.
+// bad arguments, 77 when skipped.
 #include <sanitizer/common_interface_defs.h>
 #include <signal.h>
 #include <unistd.h>
@@ -580,7 +583,7 @@ std::string probe_bvh_extremes() {
 int usage(const char* msg) {
   std::fprintf(stderr,
                "fuzz_loaders: %s\nusage: fuzz_loaders [--seed N] [--iterations N] [--seconds S] "
-               "[--max-seed-bytes N] [--timeout S] [--work DIR] INPUT...\n",
+               "[--max-seed-bytes N] [--timeout S] [--work DIR] [--skip-without PATH] INPUT...\n",
                msg);
   return 2;
 }
@@ -594,7 +597,7 @@ int main(int argc, char** argv) {
   size_t max_seed_bytes = 400000;
   unsigned timeout = 60;
   std::string work;
-  std::vector<std::string> inputs;
+  std::vector<std::string> inputs, required;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -608,6 +611,7 @@ int main(int argc, char** argv) {
       else if (a == "--max-seed-bytes") max_seed_bytes = std::stoull(value());
       else if (a == "--timeout") timeout = unsigned(std::stoul(value()));
       else if (a == "--work") work = value();
+      else if (a == "--skip-without") required.push_back(value());
       else if (a.rfind("--", 0) == 0) return usage(("unknown option " + a).c_str());
       else inputs.push_back(a);
     } catch (const std::exception& e) {
@@ -615,6 +619,16 @@ int main(int argc, char** argv) {
     }
   }
   if (iterations < 0 && seconds < 0) iterations = 1000;
+  // A run over optional seeds (the course's scenes) is skipped, exit code 77
+  // for ctest, when they are absent: their presence adds a run of its own
+  // and never changes which inputs another seeded run tries.
+  for (const std::string& path : required) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) {
+      std::printf("fuzz_loaders: skipped: %s is absent (this run mutates the files there)\n", path.c_str());
+      return 77;
+    }
+  }
   g_seed = seed;
   __sanitizer_set_death_callback(on_sanitizer_death);
   std::set_terminate(on_terminate);
@@ -650,7 +664,7 @@ int main(int argc, char** argv) {
     } else if (fs::is_regular_file(in, ec)) {
       seeds.push_back({fs::path(in).filename().string(), kind_of(in), slurp(in)});
     } else {
-      std::printf("fuzz_loaders: note: %s does not exist; skipped\n", in.c_str());
+      return usage((in + " does not exist").c_str());
     }
   }
   write_exr_seeds(work, &seeds);

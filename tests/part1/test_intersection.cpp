@@ -1,6 +1,9 @@
 // Part 1, tasks 3 and 4: ray-triangle and ray-sphere intersection.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <limits>
+
 #include "sphere.h"
 #include "triangle.h"
 
@@ -152,4 +155,24 @@ TEST_CASE("sphere: distant spheres keep precision", "[part1][sphere]") {
   Hit h;
   REQUIRE(intersect_sphere(s, r, &h));
   CHECK(h.t == Approx(999.5f).margin(1e-3));
+}
+
+TEST_CASE("sphere: a radius whose square overflows float still gives a unit normal", "[part1][sphere]") {
+  // r = 2^64: r^2 = 2^128 is past FLT_MAX, so the hit point minus the centre
+  // squared overflows in float arithmetic. The normal must still be unit
+  // length and point outward (what the loader fuzzer found).
+  const float huge = 18446744073709551616.0f;
+  Sphere s{{0, 0, 0}, huge, 0};
+  Ray r({0, 0, -2 * huge}, {0, 0, 1}, 1e-4f, std::numeric_limits<float>::infinity());
+  Hit h;
+  REQUIRE(intersect_sphere(s, r, &h));
+  CHECK(h.t == Approx(huge).epsilon(1e-6));
+  CHECK(std::isfinite(h.n.x));
+  CHECK(h.n.z == Approx(-1.0f).margin(1e-6));
+  CHECK(norm(h.n) == Approx(1.0f).margin(1e-6));
+  // A ray from far away at a small sphere: the hit point's error, not the
+  // radius, is what is huge there.
+  Sphere small{{0, 0, 0}, 1.0f, 0};
+  Ray far({3e38f, 0, 0}, {-1, 0, 0}, 0.0f, std::numeric_limits<float>::infinity());
+  if (intersect_sphere(small, far, &h)) CHECK(norm(h.n) == Approx(1.0f).margin(1e-6));
 }

@@ -8,13 +8,19 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include "bvh.h"
 #include "collada.h"
+#include "image_io.h"
+#include "rng.h"
 #include "support.h"
 
 namespace {
@@ -361,3 +367,49 @@ PROJECT_SCENE_TESTS("armadillo.dae")
 PROJECT_SCENE_TESTS("depth_order.dae")
 PROJECT_SCENE_TESTS("CBlights.dae")
 PROJECT_SCENE_TESTS("bunny_ambient.dae")
+
+// The loader fuzzer's finding: sphere_ambient.dae with the sphere's radius
+// set to 2^64. r^2 overflows float, so a hit normal computed in float came
+// out with length 0 or infinity. Such a sphere is read, and every BVH hit on
+// it has a unit normal; the scene renders with finite pixels.
+TEST_CASE("A sphere of radius 2^64 (sphere_ambient.dae) gives unit normals through the BVH and renders",
+          "[scenes][sphere]") {
+  std::ifstream in(pt::test::project_scene("sphere_ambient.dae"));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "<radius>0.5</radius>", to = "<radius>18446744073709551616</radius>";
+  const size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  text.replace(at, from.size(), to);
+  pt::test::TempDir dir;
+  const std::string path = dir.file("huge_sphere.dae");
+  pt::test::write_text(path, text);
+
+  const pt::Scene scene = pt::load_collada(path);
+  REQUIRE(scene.spheres.size() == 1);
+  const pt::BVH bvh(scene);
+  const pt::BBox b = scene.bounds();
+  pt::Rng rng = pt::Rng::for_sample(5, 0, 0);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const auto lerp = [&](float lo, float hi) { return float(lo + (double(hi) - lo) * rng.uniform()); };
+    const pt::Vec3 o(lerp(b.lo.x, b.hi.x), lerp(b.lo.y, b.hi.y), lerp(b.lo.z, b.hi.z));
+    const pt::Vec3 d = pt::normalize(pt::Vec3(rng.uniform() * 2 - 1, rng.uniform() * 2 - 1, rng.uniform() * 2 - 1));
+    pt::Ray r(o, d, 1e-4f, std::numeric_limits<float>::infinity());
+    pt::Hit hit;
+    if (!bvh.intersect(r, &hit)) continue;
+    ++hits;
+    INFO("ray " << i << ": normal (" << hit.n.x << ", " << hit.n.y << ", " << hit.n.z << ")");
+    REQUIRE(std::fabs(pt::norm(hit.n) - 1.0f) < 1e-4f);
+  }
+  CHECK(hits > 1000);
+
+  const std::string out = dir.file("huge.pfm");
+  const pt::test::RunResult run = pt::test::run_pathtracer(
+      {"--part", "4", "-t", "1", "-s", "1", "-m", "2", "-r", "16", "12", "-f", dir.file("huge.png"), "--pfm", out,
+       "--no-progress", path});
+  INFO("stderr: " << run.err);
+  REQUIRE(run.exit_code == 0);
+  const pt::ImageBuffer img = pt::read_pfm(out);
+  REQUIRE(img.width == 16);
+  for (const pt::Color& c : img.pixels) REQUIRE(pt::is_finite(c));
+}

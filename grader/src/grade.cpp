@@ -102,6 +102,14 @@ ScoreOptions case_score_options(const Case& c, const Reference& ref) {
   return so;
 }
 
+// The step in which a rate case's sample rates move: one batch of -a over
+// the -s maximum (a pixel takes a whole number of batches, or stops at -s).
+double rate_step(const Case& c) {
+  const int max_samples = std::max(1, case_int_option(c, "-s", 1));
+  const int batch = std::max(1, case_int_option(c, "-a", 32));
+  return std::min(1.0, double(batch) / max_samples);
+}
+
 CaseResult grade_case(const RunSettings& run, const std::string& reference_root, const Case& c, uint64_t seed,
                       const std::string& case_dir, const CostBounds& bounds) {
   CaseResult r;
@@ -187,6 +195,7 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   if (c.kind == CaseKind::Rate) {
     ScoreOptions ro;
     ro.variance_floor = 1e-3;  // rates move in steps of one batch
+    ro.pixel_slack = rate_step(c);
     const ImageScore rate = score_image(out.rate, ref.rate_mean, ref.rate_variance, ref.runs, ro);
     r.metric += "; rate: " + rate.summary();
     if (!rate.passed) {

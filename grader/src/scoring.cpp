@@ -165,7 +165,7 @@ ImageScore score_image(const Image& cand, const Image& mean, const Image& var, i
           channel_d[c] += d;
           channel_v[c] += sigma2(x, y, c);
         }
-        const double z = std::fabs(d) / std::sqrt(sigma2(x, y, c));
+        const double z = std::max(0.0, std::fabs(d) - opts.pixel_slack) / std::sqrt(sigma2(x, y, c));
         if (z > s.pixel_threshold) ++s.channels_failed;
         float& pz = s.pixel_z[size_t(y) * w + x];
         pz = std::max(pz, float(z));

@@ -59,6 +59,14 @@ struct ScoreOptions {
   double alpha = 0.01;               // family-wise, per test kind
   double min_pass_fraction = 0.9975; // of pixel channels
   double variance_floor = 1e-4;      // on v (1 + 1/B)
+  // Per-pixel test only: |c - m| less this much is what is divided by
+  // sigma. A sample-rate image moves in steps of one batch, and a pixel that
+  // takes one batch more than it did in every one of the B reference renders
+  // is a rare event of a correct renderer, not evidence (where many pixels
+  // are such, as in an open scene of smooth light, dozens of them per image
+  // would fail the test: calibration measured half the renders of one case).
+  // Blocks and the image mean still see a systematic shift of any size.
+  double pixel_slack = 0.0;
   bool block_test = true;            // off for deterministic references
   int block_size = 8;
   double block_clamp = 3.0;          // pixel differences winsorised at +-3 sigma

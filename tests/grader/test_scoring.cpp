@@ -259,3 +259,37 @@ TEST_CASE("A deterministic image's summary says nothing of blocks it never teste
   CHECK(s.passed);
   CHECK_THAT(s.summary(), !Catch::Contains("block") && Catch::Contains("round-off"));
 }
+
+// A sample-rate image of an open scene: the reference's pixels stopped at
+// the first batch (rate 0.25) in every one of its runs, so their variance is
+// 0, and a correct render still takes one batch more at 1 % of them
+// (what calibration measured on the cow, where half the correct renders
+// failed). One batch step of slack per pixel passes that; a pixel three
+// steps off (it never stopped) still fails, and so does the image when a
+// quarter of its pixels never stop.
+TEST_CASE("Rate images: one batch more at scattered pixels passes with one step of slack, never stopping fails",
+          "[grader]") {
+  // The reference as its runs estimate it in the long run: a step of 0.25
+  // with probability 0.01 (most pixels' own estimate is 0, which the
+  // neighbourhood rule repairs only in part).
+  const Image mean = constant(160, 120, 0.2525f), var = constant(160, 120, float(0.0625 * 0.01 * 0.99));
+  ScoreOptions ro;
+  ro.variance_floor = 1e-3;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Image one_more = constant(160, 120, 0.25f);
+  for (size_t p = 0; p < one_more.data.size() / 3; ++p)
+    if (u(rng) < 0.01)
+      for (int c = 0; c < 3; ++c) one_more.data[3 * p + c] = 0.5f;
+  CHECK_FALSE(score_image(one_more, mean, var, 100, ro).passed);  // without slack: dozens of |z| = 7.9 pixels
+  ro.pixel_slack = 0.25;
+  CHECK(score_image(one_more, mean, var, 100, ro).passed);
+
+  Image never_stops = one_more;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 160; ++x)
+      for (int c = 0; c < 3; ++c) never_stops.at(x, y, c) = 1.0f;
+  const ImageScore s = score_image(never_stops, mean, var, 100, ro);
+  CHECK_FALSE(s.passed);
+  CHECK(s.channels_failed >= 30 * 160 * 3);
+}

@@ -23,7 +23,11 @@ Left out of the kit:
     the kit may #include one, and no CMake file of the kit may name one.
 
 Installed over the copied files: the overlay files of tools/kit/ (OVERLAY
-below: the students' README.md, grader/README.md and scripts/run.sh).
+below: the students' README.md, stages/README.md, grader/README.md and
+scripts/run.sh).
+
+An unnamed namespace that stripping leaves empty (it held only solution
+helpers) gets a comment saying that the student's helpers go there.
 
 Checks, all made before anything is written (on any failure: one line on
 stderr naming the file and line, exit status 1, DEST left untouched):
@@ -73,6 +77,7 @@ OVERLAY = {
     "README.md": "README.md",
     "grader_README.md": "grader/README.md",
     "run.sh": "scripts/run.sh",
+    "stages_README.md": "stages/README.md",
 }
 GIVEN_HEADING = re.compile(r"^##\s+Given code\s*$")
 WHOLE_FILE = "whole file"
@@ -120,6 +125,30 @@ def strip_regions(path, lines):
     if inside:
         raise KitError(f"{path}:{begin_line}: BEGIN SOLUTION never closed")
     return out, solution, regions
+
+
+EMPTY_NAMESPACE_OPEN = re.compile(r"^(\s*)namespace\s*\{\s*$")
+NAMESPACE_CLOSE = re.compile(r"^\s*\}\s*//\s*namespace\s*$")
+HELPERS_HINT = "// Your helper functions go here."
+
+
+def mark_empty_helper_namespaces(lines):
+    """An unnamed namespace left with nothing but blank lines (its helpers
+    were solution code) gets one comment line saying what it is for."""
+    out, i = [], 0
+    while i < len(lines):
+        m = EMPTY_NAMESPACE_OPEN.match(lines[i])
+        if m:
+            j = i + 1
+            while j < len(lines) and not lines[j].strip():
+                j += 1
+            if j < len(lines) and NAMESPACE_CLOSE.match(lines[j]):
+                out += [lines[i], "\n", m.group(1) + HELPERS_HINT + "\n", "\n", lines[j]]
+                i = j + 1
+                continue
+        out.append(lines[i])
+        i += 1
+    return out
 
 
 # ------------------------------------------------- C++ definition scanner
@@ -718,6 +747,8 @@ def make_kit(root):
             continue
         if is_source(rel):
             out, solution, regions = strip_regions(rel, lines)
+            if regions:
+                out = mark_empty_helper_namespaces(out)
             regions_stubbed += len(regions)
             if rel.startswith("stages/"):
                 stage_sources[rel] = ("".join(lines), regions)

@@ -479,7 +479,7 @@ INSTRUCTOR_FILES = [".ci/run", "grader/gradescope/make_autograder.sh", "grader/b
 def check_instructor_files_left_out_and_overlay_installed(tmp):
     """The instructors' files, the generator, its overlay folder and the
     kit's own test stay out; the overlay files replace README.md,
-    grader/README.md and scripts/run.sh (executable)."""
+    stages/README.md, grader/README.md and scripts/run.sh (executable)."""
     files = base_tree({
         ".ci/run": "#!/bin/sh\n",
         "grader/gradescope/make_autograder.sh": "#!/bin/sh\n",
@@ -496,6 +496,7 @@ def check_instructor_files_left_out_and_overlay_installed(tmp):
         "tools/kit/README.md": "# Starter kit: for students\n",
         "tools/kit/grader_README.md": "# The grader, for students\n",
         "tools/kit/run.sh": "#!/bin/sh\necho your build\n",
+        "tools/kit/stages_README.md": "# stages/, for students\n",
     })
     run = generate(files, tmp, modes={"tools/kit/run.sh": 0o755, "scripts/run.sh": 0o755})
     expect_success(run, "a tree with instructor files and an overlay")
@@ -506,6 +507,7 @@ def check_instructor_files_left_out_and_overlay_installed(tmp):
     expect(read(run, "README.md") == "# Starter kit: for students\n", "README.md is not the overlay's")
     expect(read(run, "grader/README.md") == "# The grader, for students\n", "grader/README.md is not the overlay's")
     expect(read(run, "scripts/run.sh") == "#!/bin/sh\necho your build\n", "scripts/run.sh is not the overlay's")
+    expect(read(run, "stages/README.md") == "# stages/, for students\n", "stages/README.md is not the overlay's")
     expect(os.access(os.path.join(run.dest, "scripts/run.sh"), os.X_OK), "the kit's scripts/run.sh is not executable")
 
     # An overlay file the generator does not know is an error, not ignored.
@@ -541,13 +543,55 @@ def check_overlay_quoting_solution_line_fails(tmp):
     """An overlay file that quotes a solution line, of a region or of a
     reference-only file, leaks it: the generator refuses."""
     overlay = {"tools/kit/README.md": "# Kit\n\n    const int doubled_and_offset_value = x * scale + 1;\n",
-               "tools/kit/grader_README.md": "# Grader\n", "tools/kit/run.sh": "#!/bin/sh\n"}
+               "tools/kit/grader_README.md": "# Grader\n", "tools/kit/run.sh": "#!/bin/sh\n",
+               "tools/kit/stages_README.md": "# Stages\n"}
     run = generate(base_tree(overlay), tmp)
     expect_failure(run, "README.md:3:", "solution line leaked", what="an overlay quoting a solution line")
     # And reference-only files count as solution.
     overlay["tools/kit/README.md"] = "# Kit\n\n    inline int fast_solve_with_vector_units(int x) { return x * 2 + 1; }\n"
     run = generate(base_tree(dict(overlay, **{"stages/part1_demo/fast_path.h": FAST_PATH})), tmp)
     expect_failure(run, "README.md:3:", "solution line leaked", what="an overlay quoting a reference-only file")
+
+
+def check_emptied_helper_namespace_gets_a_hint(tmp):
+    """An unnamed namespace that held only solution helpers is left with a
+    comment saying the student's helpers go there; one that keeps given
+    code, and a namespace in a file without regions, are unchanged."""
+    emptied = dedent("""
+        #include "work.h"
+        #include "todo.h"
+
+        namespace pt {
+
+        namespace {
+        // BEGIN SOLUTION
+        int helper_that_triples_its_argument(int x) { return 3 * x; }
+        // END SOLUTION
+        }  // namespace
+
+        int solve(int x) {
+          // BEGIN SOLUTION
+          // STUB: todo_once("Part 1: solve (stages/part1_demo/work.cpp)");
+          // STUB: return 0;
+          return helper_that_triples_its_argument(x) + 1;
+          // END SOLUTION
+        }
+
+        }  // namespace pt
+        """)
+    run = generate(base_tree({"stages/part1_demo/work.cpp": emptied}), tmp)
+    expect_success(run, "a file whose helper namespace is all solution")
+    text = read(run, "stages/part1_demo/work.cpp")
+    expect("namespace {\n\n// Your helper functions go here.\n\n}  // namespace" in text,
+           f"the emptied namespace has no hint:\n{text}")
+    expect(text.count("Your helper functions go here.") == 1, "the hint is there more than once")
+
+    kept = emptied.replace("namespace {\n", "namespace {\nconst int kGivenScale = 2;\n", 1)
+    given = (("work.h", "whole file"), ("work.cpp", "`kGivenScale`"))
+    run = generate(base_tree({"stages/part1_demo/work.cpp": kept}, given_rows=given), tmp)
+    expect_success(run, "a helper namespace that keeps given code")
+    expect("Your helper functions go here." not in read(run, "stages/part1_demo/work.cpp"),
+           "a namespace holding given code got the hint")
 
 
 def main():

@@ -91,6 +91,8 @@ def next_start(pending_x, pending, running, budget):
     others share the free threads, so the last ones take those that would
     otherwise sit idle."""
     free = budget - sum(j.threads for j in running)
+    if any(j.exclusive for j in running):
+        return None  # a timing render runs alone, also when it leaves threads free
     if pending_x:
         if running:
             return None

@@ -4,7 +4,6 @@ generator, importing its package, and parsers of the page it writes."""
 import html.parser
 import json
 import os
-import re
 import subprocess
 import sys
 import time

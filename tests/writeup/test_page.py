@@ -107,8 +107,9 @@ class PageTest(unittest.TestCase):
         self.assertTrue(figs["same"]["command"].endswith("--stats-json same.json -f same.png scenes/CBempty.dae"))
         self.assertEqual((figs["failed"]["image"], figs["failed"]["error"]),
                          (None, "pathtracer exited with status 1: bad <scene>"))
-        self.assertEqual(figs["flagged"]["flags"], [{"kind": "todo", "text": TODO},
-                                                    {"kind": "black", "text": "the image is all black (every pixel 0)"}])
+        self.assertEqual(figs["flagged"]["flags"],
+                         [{"kind": "todo", "text": TODO},
+                          {"kind": "black", "text": "the image is all black (every pixel 0)"}])
         self.assertEqual(figs["ok"]["flags"], [])
 
     def test_grid_html_and_markdown(self):

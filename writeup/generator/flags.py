@@ -2,21 +2,22 @@
 values, and which flags the generator sets itself."""
 
 import shlex
+from types import MappingProxyType
 
 from .base import InputError
 
 # The pathtracer's flags and how many values each takes (pathtracer --help).
-FLAG_ARITY = {
+FLAG_ARITY = MappingProxyType({
     "-s": 1, "-l": 1, "-t": 1, "-m": 1, "-o": 1, "-e": 1, "-b": 1, "-d": 1,
     "-f": 1, "-r": 2, "-c": 1, "-a": 2, "-H": 0, "-p": 4, "--part": 1,
     "--seed": 1, "--pfm": 1, "--stats-json": 1, "--bvh-leaf": 1,
     "--bvh-bins": 1, "--no-rr": 0, "--direct-only": 0, "--indirect-only": 0,
     "--course-area-pdf": 0, "--no-progress": 0,
-}
+})
 # Set by the generator itself (from size, seed, the scheduler and the cache).
-GENERATED_FLAGS = {"-r": "size", "--seed": "seed", "-t": "threads",
-                   "-f": None, "--stats-json": None, "--no-progress": None,
-                   "--pfm": None}
+GENERATED_FLAGS = MappingProxyType({"-r": "size", "--seed": "seed", "-t": "threads",
+                                   "-f": None, "--stats-json": None, "--no-progress": None,
+                                   "--pfm": None})
 FILE_FLAGS = ("-e", "-c")  # their files' bytes are part of the cache key
 
 

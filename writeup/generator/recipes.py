@@ -11,17 +11,17 @@ import tomllib
 from .base import ROOT, InputError, display_path
 from .flags import FILE_FLAGS, get_flag, merge_flags, parse_flags, set_flag
 
-SETTINGS_KEYS = {"title", "scenes_dir", "size", "seed", "quick_size",
-                 "quick_max_samples", "quick_max_light_samples"}
-SECTION_KEYS = {"id", "title", "text", "grid", "table"}
-GRID_KEYS = {"id", "title", "text", "scene", "args", "size", "quick_size", "seed",
-             "columns", "rate", "vary", "cells", "expect_black"}
-CELL_KEYS = {"label", "name", "scene", "args", "size", "quick_size", "seed", "expect_black"}
-VARY_KEYS = {"flag", "values"}
-TABLE_KEYS = {"id", "title", "text", "scene", "scenes", "args", "size", "quick_size",
-              "seed", "threads", "exclusive", "variants", "columns"}
-VARIANT_KEYS = {"label", "args"}
-COLUMN_KEYS = {"title", "field", "variant", "ratio"}
+SETTINGS_KEYS = frozenset({"title", "scenes_dir", "size", "seed", "quick_size",
+                           "quick_max_samples", "quick_max_light_samples"})
+SECTION_KEYS = frozenset({"id", "title", "text", "grid", "table"})
+GRID_KEYS = frozenset({"id", "title", "text", "scene", "args", "size", "quick_size", "seed",
+                       "columns", "rate", "vary", "cells", "expect_black"})
+CELL_KEYS = frozenset({"label", "name", "scene", "args", "size", "quick_size", "seed", "expect_black"})
+VARY_KEYS = frozenset({"flag", "values"})
+TABLE_KEYS = frozenset({"id", "title", "text", "scene", "scenes", "args", "size", "quick_size",
+                        "seed", "threads", "exclusive", "variants", "columns"})
+VARIANT_KEYS = frozenset({"label", "args"})
+COLUMN_KEYS = frozenset({"title", "field", "variant", "ratio"})
 
 
 def check_keys(table, known, where):

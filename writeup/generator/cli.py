@@ -64,6 +64,26 @@ def load_inputs(a):
     return binary, recipes
 
 
+def to_render(jobs, cache, history, force):
+    """The jobs the cache does not hold (all with force), each with its cost estimate:
+    its recipe's time in the history, else the cost model's."""
+    pending = []
+    for j in jobs:
+        if not force and cache.lookup(j):
+            continue
+        j.est = history.get(command_key(j.proto)) or cost_units(j.proto)
+        pending.append(j)
+    return pending
+
+
+def dry_run(binary, renders):
+    """--dry-run: each render's command and whether it is cached."""
+    for r in renders:
+        state = "cached" if r.job.status == "cached" else "to render"
+        print(f"{state:9} {r.grid}/{r.name}: "
+              f"{shlex.join([display_path(binary)] + recipe_args(r) + [display_path(r.scene)])}")
+
+
 def copy_images(out_dir, renders):
     """The figures' images into OUT/img/<grid>/<name>.png (and <name>_rate.png)."""
     img_dir = os.path.join(out_dir, "img")
@@ -129,18 +149,10 @@ def main(argv=None):
     binary_hash = file_hash(binary)
     jobs = make_jobs(recipes.renders, lambda r: cache_key(r, binary_hash, file_hash))
     history = cache.load_history()
-    pending = []
-    for j in jobs:
-        if not a.force and cache.lookup(j):
-            continue
-        j.est = history.get(command_key(j.proto)) or cost_units(j.proto)
-        pending.append(j)
+    pending = to_render(jobs, cache, history, a.force)
 
     if a.dry_run:
-        for r in recipes.renders:
-            state = "cached" if r.job.status == "cached" else "to render"
-            print(f"{state:9} {r.grid}/{r.name}: "
-                  f"{shlex.join([display_path(binary)] + recipe_args(r) + [display_path(r.scene)])}")
+        dry_run(binary, recipes.renders)
         return 0
 
     os.makedirs(cache.dir, exist_ok=True)

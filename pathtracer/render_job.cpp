@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -124,6 +125,12 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
 std::string stats_json(const Scene& scene, const RenderOptions& opts, const RenderResult& r, double load_seconds) {
   const double rays = double(r.stats.rays());
   const auto per_ray = [&](uint64_t n) { return rays > 0 ? double(n) / rays : 0.0; };
+  // The largest finite radiance channel before tone mapping (0 for an
+  // all-black image): the write-up generator flags a black figure by it.
+  float max_radiance = 0;
+  for (const Color& c : r.image.pixels)
+    for (const float v : {c.x, c.y, c.z})
+      if (std::isfinite(v) && v > max_radiance) max_radiance = v;
   // Every field but the scene path has a bounded length; the path, which
   // has none, is added outside the fixed-size buffer.
   char buf[2048];
@@ -137,7 +144,8 @@ std::string stats_json(const Scene& scene, const RenderOptions& opts, const Rend
                 "  \"render_seconds\": %.6f,\n  \"rays\": %llu,\n  \"closest_queries\": %llu,\n"
                 "  \"shadow_queries\": %llu,\n  \"primitive_tests\": %llu,\n  \"node_visits\": %llu,\n"
                 "  \"shadow_primitive_tests\": %llu,\n  \"shadow_node_visits\": %llu,\n"
-                "  \"mrays_per_second\": %.4f,\n  \"tests_per_ray\": %.4f,\n  \"nodes_per_ray\": %.4f\n"
+                "  \"mrays_per_second\": %.4f,\n  \"tests_per_ray\": %.4f,\n  \"nodes_per_ray\": %.4f,\n"
+                "  \"max_radiance\": %.9g\n"
                 "}\n",
                 opts.part, opts.width, opts.height, opts.samples_per_pixel,
                 opts.light_samples, opts.max_depth, opts.threads, (unsigned long long)opts.seed,
@@ -149,7 +157,7 @@ std::string stats_json(const Scene& scene, const RenderOptions& opts, const Rend
                 (unsigned long long)r.stats.primitive_tests, (unsigned long long)r.stats.node_visits,
                 (unsigned long long)r.stats.shadow_primitive_tests, (unsigned long long)r.stats.shadow_node_visits,
                 r.seconds > 0 ? rays / r.seconds * 1e-6 : 0.0, per_ray(r.stats.primitive_tests),
-                per_ray(r.stats.node_visits));
+                per_ray(r.stats.node_visits), double(max_radiance));
   return "{\n  \"scene\": " + json_quote(opts.scene_path) + ",\n" + buf;
 }
 

@@ -5,6 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "image_files.h"
+#include "image_io.h"
+
 namespace grader {
 
 namespace fs = std::filesystem;
@@ -76,7 +79,7 @@ std::string log_excerpt(const std::string& dir) {
 }
 
 // Checks an image file's size against the case's.
-bool size_matches(const Image& img, int w, int h, const std::string& what, std::string* failure) {
+bool size_matches(const ImageBuffer& img, int w, int h, const std::string& what, std::string* failure) {
   if (img.width == w && img.height == h) return true;
   char buf[200];
   std::snprintf(buf, sizeof buf, "%s is %d x %d, expected %d x %d", what.c_str(), img.width, img.height, w, h);
@@ -148,7 +151,7 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
   // The course's PNG must be there and be a real PNG of the right size.
   if (!present(abs_dir + "/render.png", "image", "-f render.png")) return out;
   try {
-    const Image png = read_png_image(abs_dir + "/render.png");
+    const ImageBuffer png = read_png_image(abs_dir + "/render.png");
     if (!size_matches(png, w, h, "the PNG image", &out.failure)) return out;
   } catch (const std::exception& e) {
     out.failure = std::string("unreadable PNG: ") + e.what();
@@ -157,7 +160,7 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
   // The float image is what gets scored.
   if (!present(abs_dir + "/render.pfm", "floating-point image", "--pfm render.pfm")) return out;
   try {
-    out.radiance = read_pfm_image(abs_dir + "/render.pfm");
+    out.radiance = pt::read_pfm(abs_dir + "/render.pfm");
   } catch (const std::exception& e) {
     out.failure = std::string("unreadable PFM: ") + e.what();
     return out;
@@ -180,7 +183,7 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
   for (int y = 0; y < out.radiance.height; ++y)
     for (int x = 0; x < out.radiance.width; ++x)
       for (int ch = 0; ch < 3; ++ch)
-        if (out.radiance.at(x, y, ch) < -kNegativeTolerance) {
+        if (value_from_top(out.radiance, x, y, ch) < -kNegativeTolerance) {
           if (negative++ == 0) nx = x, ny = y;
           break;
         }
@@ -204,7 +207,7 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
   }
   if (fs::is_regular_file(abs_dir + "/stats.json", ec)) {
     try {
-      out.stats = read_json_file(abs_dir + "/stats.json");
+      out.stats = pt::read_json_file(abs_dir + "/stats.json");
       out.has_stats = out.stats.type == Json::Type::Object;
     } catch (const std::exception&) {
       out.has_stats = false;  // only cost cases need it; they say so

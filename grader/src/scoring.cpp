@@ -1,60 +1,12 @@
 #include "scoring.h"
 
-#include <lodepng.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
-#include "image_io.h"
 
 namespace grader {
-
-Image read_pfm_image(const std::string& path) {
-  const pt::ImageBuffer buf = pt::read_pfm(path);  // bottom row first
-  Image img(buf.width, buf.height, 3);
-  for (int y = 0; y < buf.height; ++y)
-    for (int x = 0; x < buf.width; ++x) {
-      const auto& p = buf.at(x, buf.height - 1 - y);
-      for (int c = 0; c < 3; ++c) img.at(x, y, c) = p[c];
-    }
-  return img;
-}
-
-void write_pfm_image(const std::string& path, const Image& img) {
-  pt::ImageBuffer buf(img.width, img.height);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      auto& p = buf.at(x, img.height - 1 - y);
-      for (int c = 0; c < 3; ++c) p[c] = img.at(x, y, img.channels == 3 ? c : 0);
-    }
-  pt::write_pfm(path, buf);
-}
-
-Image read_png_image(const std::string& path) {
-  std::vector<unsigned char> rgb;
-  unsigned w = 0, h = 0;
-  const unsigned err = lodepng::decode(rgb, w, h, path, LCT_RGB, 8);
-  if (err) throw std::runtime_error(path + ": " + lodepng_error_text(err));
-  Image img(int(w), int(h), 3);
-  for (size_t i = 0; i < rgb.size(); ++i) img.data[i] = float(rgb[i]);
-  return img;
-}
-
-Image rate_from_colors(const Image& rgb) {
-  Image rate(rgb.width, rgb.height, 1);
-  for (int y = 0; y < rgb.height; ++y)
-    for (int x = 0; x < rgb.width; ++x) {
-      const float r = rgb.at(x, y, 0), g = rgb.at(x, y, 1), b = rgb.at(x, y, 2);
-      // Blue -> green covers [0, 0.5], green -> red covers [0.5, 1].
-      float v = 0;
-      if (r > 0 && r + g > 0) v = 0.5f + 0.5f * r / (r + g);
-      else if (g + b > 0) v = 0.5f * g / (g + b);
-      rate.at(x, y, 0) = v;
-    }
-  return rate;
-}
 
 double normal_two_sided_threshold(double p) {
   // P(|Z| > z) = erfc(z / sqrt 2); erfc decreases, so bisect.
@@ -72,12 +24,12 @@ double sidak_level(double alpha, int n) {
   return -std::expm1(std::log1p(-alpha) / std::max(n, 1));
 }
 
-int count_non_finite(const Image& img, int* first_x, int* first_y) {
+int count_non_finite(const ImageBuffer& img, int* first_x, int* first_y) {
   int n = 0;
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
-      for (int c = 0; c < img.channels; ++c)
-        if (!std::isfinite(img.at(x, y, c))) {
+      for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(value_from_top(img, x, y, c))) {
           if (n == 0 && first_x && first_y) {
             *first_x = x;
             *first_y = y;
@@ -91,17 +43,17 @@ int count_non_finite(const Image& img, int* first_x, int* first_y) {
 namespace {
 
 // A deterministic reference: every channel within round-off of it.
-ImageScore score_by_value(const Image& cand, const Image& mean, const ScoreOptions& opts) {
+ImageScore score_by_value(const ImageBuffer& cand, const ImageBuffer& mean, const ScoreOptions& opts) {
   ImageScore s;
   s.deterministic = true;
-  const int w = cand.width, h = cand.height, nc = cand.channels;
+  const int w = cand.width, h = cand.height, nc = std::clamp(opts.channels, 1, 3);
   s.channels_tested = w * h * nc;
   s.pixel_z.assign(size_t(w) * h, 0.0f);
   double sum_c = 0, sum_m = 0, rel = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < nc; ++c) {
-        const double cv = cand.at(x, y, c), mv = mean.at(x, y, c), d = cv - mv;
+        const double cv = value_from_top(cand, x, y, c), mv = value_from_top(mean, x, y, c), d = cv - mv;
         const double tolerance = opts.abs_tolerance + opts.rel_tolerance * std::fabs(mv);
         if (std::fabs(d) > tolerance) ++s.channels_failed;
         s.max_abs_difference = std::max(s.max_abs_difference, std::fabs(d));
@@ -123,17 +75,20 @@ ImageScore score_by_value(const Image& cand, const Image& mean, const ScoreOptio
 
 }  // namespace
 
-ImageScore score_image(const Image& cand, const Image& mean, const Image& var, int runs, const ScoreOptions& opts) {
+ImageScore score_image(const ImageBuffer& cand, const ImageBuffer& mean, const ImageBuffer& var, int runs,
+                       const ScoreOptions& opts) {
   if (opts.deterministic) return score_by_value(cand, mean, opts);
   ImageScore s;
-  const int w = cand.width, h = cand.height, nc = cand.channels;
+  const int w = cand.width, h = cand.height, nc = std::clamp(opts.channels, 1, 3);
+  const auto at = [](const ImageBuffer& img, int x, int y, int c) { return value_from_top(img, x, y, c); };
   const double inflate = 1.0 + 1.0 / std::max(runs, 1);
   // A pixel whose rare paths (a firefly, the fifth bounce alone) never
   // showed in the B reference renders has its variance underestimated,
   // often as 0. Neighbouring pixels see nearly the same paths, so each
   // pixel's variance is taken as at least the mean over its 3x3
   // neighbourhood: conservative, and robust to such holes.
-  Image v3(w, h, nc);
+  std::vector<float> v3(size_t(w) * h * nc);  // rows from the top
+  const auto v3_at = [&](int x, int y, int c) -> float& { return v3[(size_t(y) * w + x) * nc + c]; };
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < nc; ++c) {
@@ -143,13 +98,13 @@ ImageScore score_image(const Image& cand, const Image& mean, const Image& var, i
           for (int dx = -1; dx <= 1; ++dx) {
             const int xx = x + dx, yy = y + dy;
             if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-            sum += var.at(xx, yy, c);
+            sum += at(var, xx, yy, c);
             ++n;
           }
-        v3.at(x, y, c) = float(std::max(double(var.at(x, y, c)), sum / n));
+        v3_at(x, y, c) = float(std::max(double(at(var, x, y, c)), sum / n));
       }
   const auto sigma2 = [&](int x, int y, int c) {
-    return std::max(double(v3.at(x, y, c)) * inflate, opts.variance_floor);
+    return std::max(double(v3_at(x, y, c)) * inflate, opts.variance_floor);
   };
 
   s.channels_tested = w * h * nc;
@@ -160,7 +115,7 @@ ImageScore score_image(const Image& cand, const Image& mean, const Image& var, i
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < nc; ++c) {
-        const double cv = cand.at(x, y, c), mv = mean.at(x, y, c), d = cv - mv;
+        const double cv = at(cand, x, y, c), mv = at(mean, x, y, c), d = cv - mv;
         if (c < 3) {
           channel_d[c] += d;
           channel_v[c] += sigma2(x, y, c);
@@ -173,7 +128,7 @@ ImageScore score_image(const Image& cand, const Image& mean, const Image& var, i
         sum_m += mv;
         const double denom = mv * mv + 0.01;
         rel += d * d / denom;
-        rel_expected += double(var.at(x, y, c)) * inflate / denom;
+        rel_expected += double(at(var, x, y, c)) * inflate / denom;
       }
   const double n = double(s.channels_tested);
   s.mean_candidate = sum_c / n;
@@ -217,7 +172,7 @@ ImageScore score_image(const Image& cand, const Image& mean, const Image& var, i
               // already allows, cannot fail a block, while a bias shared by
               // the block's pixels passes through nearly unchanged.
               const double s2 = sigma2(x, y, c), limit = opts.block_clamp * std::sqrt(s2);
-              d += std::clamp(double(cand.at(x, y, c)) - mean.at(x, y, c), -limit, limit);
+              d += std::clamp(double(at(cand, x, y, c)) - at(mean, x, y, c), -limit, limit);
               v += s2;
               ++count;
             }

@@ -11,11 +11,12 @@
 
 #include "brute_force.h"
 #include "adaptive_sampling.h"
+#include "clock.h"
 #include "collada.h"
 #include "cost_splitting_intersector.h"
 #include "global_illumination.h"
 #include "image_io.h"
-#include "json_text.h"
+#include "json.h"
 #include "pixel_sampling.h"
 #include "render_loop.h"
 #include "shading.h"
@@ -23,11 +24,6 @@
 namespace pt {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // The outputs a render writes, in the order they are written.
 std::vector<std::string> output_paths(const RenderOptions& opts) {
@@ -122,43 +118,57 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
 }
 
 
+namespace {
+
+// The largest finite radiance of any channel of the image; 0 for black.
+double max_radiance(const ImageBuffer& img) {
+  double m = 0;
+  for (const Color& c : img.pixels)
+    for (int k = 0; k < 3; ++k)
+      if (std::isfinite(c[k]) && c[k] > m) m = c[k];
+  return m;
+}
+
+}  // namespace
+
 std::string stats_json(const Scene& scene, const RenderOptions& opts, const RenderResult& r, double load_seconds) {
   const double rays = double(r.stats.rays());
   const auto per_ray = [&](uint64_t n) { return rays > 0 ? double(n) / rays : 0.0; };
-  // The largest finite radiance channel before tone mapping (0 for an
-  // all-black image): the write-up generator flags a black figure by it.
-  float max_radiance = 0;
-  for (const Color& c : r.image.pixels)
-    for (const float v : {c.x, c.y, c.z})
-      if (std::isfinite(v) && v > max_radiance) max_radiance = v;
-  // Every field but the scene path has a bounded length; the path, which
-  // has none, is added outside the fixed-size buffer.
-  char buf[2048];
-  std::snprintf(buf, sizeof buf,
-                "  \"part\": %d,\n  \"width\": %d,\n  \"height\": %d,\n"
-                "  \"samples_per_pixel\": %d,\n  \"light_samples\": %d,\n  \"max_depth\": %d,\n"
-                "  \"threads\": %d,\n  \"seed\": %llu,\n  \"primitives\": %zu,\n"
-                "  \"triangles\": %zu,\n  \"spheres\": %zu,\n  \"lights\": %zu,\n"
-                "  \"load_seconds\": %.6f,\n  \"bvh_build_seconds\": %.6f,\n  \"bvh_nodes\": %zu,\n"
-                "  \"bvh_leaves\": %zu,\n  \"bvh_depth\": %d,\n  \"bvh_sah_cost\": %.4f,\n"
-                "  \"render_seconds\": %.6f,\n  \"rays\": %llu,\n  \"closest_queries\": %llu,\n"
-                "  \"shadow_queries\": %llu,\n  \"primitive_tests\": %llu,\n  \"node_visits\": %llu,\n"
-                "  \"shadow_primitive_tests\": %llu,\n  \"shadow_node_visits\": %llu,\n"
-                "  \"mrays_per_second\": %.4f,\n  \"tests_per_ray\": %.4f,\n  \"nodes_per_ray\": %.4f,\n"
-                "  \"max_radiance\": %.9g\n"
-                "}\n",
-                opts.part, opts.width, opts.height, opts.samples_per_pixel,
-                opts.light_samples, opts.max_depth, opts.threads, (unsigned long long)opts.seed,
-                scene.num_primitives(), scene.triangles.size(), scene.spheres.size(), scene.lights.size(),
-                load_seconds, r.used_bvh ? r.bvh.build_seconds : 0.0, r.used_bvh ? r.bvh.nodes : size_t(0),
-                r.used_bvh ? r.bvh.leaves : size_t(0), r.used_bvh ? r.bvh.depth : 0,
-                r.used_bvh ? r.bvh.sah_cost : 0.0, r.seconds, (unsigned long long)r.stats.rays(),
-                (unsigned long long)r.stats.closest_queries, (unsigned long long)r.stats.shadow_queries,
-                (unsigned long long)r.stats.primitive_tests, (unsigned long long)r.stats.node_visits,
-                (unsigned long long)r.stats.shadow_primitive_tests, (unsigned long long)r.stats.shadow_node_visits,
-                r.seconds > 0 ? rays / r.seconds * 1e-6 : 0.0, per_ray(r.stats.primitive_tests),
-                per_ray(r.stats.node_visits), double(max_radiance));
-  return "{\n  \"scene\": " + json_quote(opts.scene_path) + ",\n" + buf;
+  const auto seconds = [](double s) { return json_real(s, "%.6f"); };
+  const auto ratio = [](double v) { return json_real(v, "%.4f"); };
+  Json j = json_object();
+  j.set("scene", json_text(opts.scene_path))
+      .set("part", json_int(opts.part))
+      .set("width", json_int(opts.width))
+      .set("height", json_int(opts.height))
+      .set("samples_per_pixel", json_int(opts.samples_per_pixel))
+      .set("light_samples", json_int(opts.light_samples))
+      .set("max_depth", json_int(opts.max_depth))
+      .set("threads", json_int(opts.threads))
+      .set("seed", json_count(opts.seed))
+      .set("primitives", json_count(scene.num_primitives()))
+      .set("triangles", json_count(scene.triangles.size()))
+      .set("spheres", json_count(scene.spheres.size()))
+      .set("lights", json_count(scene.lights.size()))
+      .set("load_seconds", seconds(load_seconds))
+      .set("bvh_build_seconds", seconds(r.used_bvh ? r.bvh.build_seconds : 0.0))
+      .set("bvh_nodes", json_count(r.used_bvh ? r.bvh.nodes : 0))
+      .set("bvh_leaves", json_count(r.used_bvh ? r.bvh.leaves : 0))
+      .set("bvh_depth", json_int(r.used_bvh ? r.bvh.depth : 0))
+      .set("bvh_sah_cost", ratio(r.used_bvh ? r.bvh.sah_cost : 0.0))
+      .set("render_seconds", seconds(r.seconds))
+      .set("rays", json_count(r.stats.rays()))
+      .set("closest_queries", json_count(r.stats.closest_queries))
+      .set("shadow_queries", json_count(r.stats.shadow_queries))
+      .set("primitive_tests", json_count(r.stats.primitive_tests))
+      .set("node_visits", json_count(r.stats.node_visits))
+      .set("shadow_primitive_tests", json_count(r.stats.shadow_primitive_tests))
+      .set("shadow_node_visits", json_count(r.stats.shadow_node_visits))
+      .set("mrays_per_second", ratio(r.seconds > 0 ? rays / r.seconds * 1e-6 : 0.0))
+      .set("tests_per_ray", ratio(per_ray(r.stats.primitive_tests)))
+      .set("nodes_per_ray", ratio(per_ray(r.stats.node_visits)))
+      .set("max_radiance", json_real(max_radiance(r.image)));
+  return write_json(j);
 }
 
 int run_render_job(const RenderOptions& opts) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "grade.h"
+#include "image_files.h"
 #include "image_io.h"
 #include "pictures.h"
 #include "reference.h"
@@ -68,7 +69,7 @@ int compare_render(const Case& c, const std::string& references, const std::stri
   const std::string ext = lower_extension(file);
   if (ext != ".pfm" && ext != ".png") throw std::runtime_error(file + ": expected a .pfm or .png image");
   const bool pfm = ext == ".pfm";
-  const Image mine = pfm ? read_pfm_image(file) : read_png_image(file);
+  const ImageBuffer mine = pfm ? pt::read_pfm(file) : read_png_image(file);
   if (mine.width != ref.mean.width || mine.height != ref.mean.height)
     throw std::runtime_error(file + ": the image is " + std::to_string(mine.width) + " x " + std::to_string(mine.height) +
                              ", case " + c.name + " renders " + std::to_string(ref.mean.width) + " x " +
@@ -111,10 +112,11 @@ int compare_render(const Case& c, const std::string& references, const std::stri
         double worst = 0;
         for (int ch = 0; ch < 3; ++ch) {
           const size_t i = (size_t(y) * w + x) * 3 + ch;
-          yours.rgb[i] = (unsigned char)mine.at(x, y, ch);
-          const double m = ref.mean.at(x, y, ch), sd = std::sqrt(std::max(0.0f, ref.variance.at(x, y, ch)));
+          yours.rgb[i] = (unsigned char)value_from_top(mine, x, y, ch);
+          const double m = value_from_top(ref.mean, x, y, ch),
+                       sd = std::sqrt(std::max(0.0f, value_from_top(ref.variance, x, y, ch)));
           const double noise = std::fabs(double(pt::radiance_to_byte(float(m + sd))) - pt::radiance_to_byte(float(m)));
-          const double d = std::fabs(double(mine.at(x, y, ch)) - reference.rgb[i]);
+          const double d = std::fabs(double(value_from_top(mine, x, y, ch)) - reference.rgb[i]);
           sum_diff += d;
           sum_noise += noise;
           worst = std::max(worst, d / (4 * noise + 2));

@@ -6,7 +6,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +16,7 @@
 #include <thread>
 
 #include "case_list.h"
+#include "clock.h"
 #include "compare.h"
 #include "grade.h"
 #include "image_io.h"
@@ -37,10 +37,6 @@ std::string executable_dir() {
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
   return ec ? std::string(".") : self.parent_path().string();
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // The options every command shares.
@@ -142,7 +138,7 @@ int exit_code_for(const std::vector<CaseResult>& results) {
 }
 
 int command_run(const Common& common, const std::string& out, uint64_t seed, bool quiet) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = pt::Clock::now();
   const std::string started = utc_now();
   const std::vector<Case> cases = common.select();
   common.check_binary();
@@ -182,7 +178,7 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
   RunInfo info;
   info.pathtracer = fs::absolute(common.pathtracer).string();
   info.started = started;
-  info.wall_seconds = seconds_since(t0);
+  info.wall_seconds = pt::seconds_since(t0);
   info.jobs = common.jobs;
   info.threads = common.threads;
   info.seed = seed;
@@ -202,7 +198,7 @@ int command_merge(const Common& common, const std::string& out, const std::vecto
       const std::string path = entry.path().string() + "/result.json";
       if (!fs::exists(path)) continue;
       CaseResult r;
-      if (!case_result_from_json(read_json_file(path), &r)) throw std::runtime_error(path + ": not a case result");
+      if (!case_result_from_json(pt::read_json_file(path), &r)) throw std::runtime_error(path + ": not a case result");
       if (!seen.insert(r.c.name).second) throw std::runtime_error(path + ": case " + r.c.name + " graded twice");
       results.push_back(r);
     }
@@ -314,7 +310,7 @@ int command_calibrate(const Common& common, int seeds, uint64_t first_seed, cons
   std::mutex mu;
   std::atomic<int> done{0};
   const RunSettings run = common.run_settings();
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = pt::Clock::now();
   parallel_for(int(tasks.size()), common.jobs, [&](int t) {
     const Task& task = tasks[size_t(t)];
     const Case& c = cases[task.case_index];
@@ -332,7 +328,7 @@ int command_calibrate(const Common& common, int seeds, uint64_t first_seed, cons
     }
     const int d = ++done;
     if (d % 20 == 0 || d == int(tasks.size()))
-      std::printf("calibrate: %d/%zu renders, %.0f s\n", d, tasks.size(), seconds_since(t0));
+      std::printf("calibrate: %d/%zu renders, %.0f s\n", d, tasks.size(), pt::seconds_since(t0));
     std::fflush(stdout);
   });
 
@@ -343,7 +339,7 @@ int command_calibrate(const Common& common, int seeds, uint64_t first_seed, cons
     << "), none of them used to make the references. A deterministic case (normal shading at one sample per "
        "pixel) does not depend on the seed and was run once. Target: at most 1 % false failures per case.\n\n"
     << "Made by `grader calibrate --seeds " << seeds << "` at commit " << git_commit() << " on " << utc_now()
-    << " (" << fmt_seconds(seconds_since(t0)) << ").\n\n"
+    << " (" << fmt_seconds(pt::seconds_since(t0)) << ").\n\n"
     << "The last column is the one-sided 95 % upper confidence bound on the case's false-failure rate "
        "(Clopper-Pearson): what the runs can vouch for. Pooled over the Monte Carlo cases the bound is "
        "much tighter (below the table).\n\n"

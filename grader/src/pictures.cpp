@@ -1,23 +1,14 @@
 #include "pictures.h"
 
-#include <lodepng.h>
-
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
+#include "image_files.h"
 #include "image_io.h"
 
 namespace grader {
 
-Picture radiance_picture(const Image& img) {
-  Picture p{img.width, img.height, std::vector<unsigned char>(size_t(img.width) * img.height * 3)};
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x)
-      for (int c = 0; c < 3; ++c)
-        p.rgb[(size_t(y) * img.width + x) * 3 + c] = pt::radiance_to_byte(img.at(x, y, img.channels == 3 ? c : 0));
-  return p;
-}
+Picture radiance_picture(const ImageBuffer& img) { return Picture{img.width, img.height, pt::to_png_bytes(img)}; }
 
 Picture error_picture(const std::vector<float>& z, int width, int height, double threshold) {
   Picture p{width, height, std::vector<unsigned char>(size_t(width) * height * 3)};
@@ -53,10 +44,7 @@ Picture side_by_side(const std::vector<Picture>& pictures, int gap) {
 }
 
 void save_picture(const std::string& path, const Picture& picture) {
-  std::vector<unsigned char> png;
-  const unsigned err = lodepng::encode(png, picture.rgb, unsigned(picture.width), unsigned(picture.height), LCT_RGB, 8);
-  if (err) throw std::runtime_error(path + ": " + lodepng_error_text(err));
-  pt::write_file_atomically(path, std::vector<uint8_t>(png.begin(), png.end()));
+  write_png_rgb(path, picture.width, picture.height, picture.rgb);
 }
 
 }  // namespace grader

@@ -15,7 +15,7 @@ struct Picture {
 };
 
 // The course's 8-bit look of a radiance image.
-Picture radiance_picture(const Image& img);
+Picture radiance_picture(const ImageBuffer& img);
 // |z| per pixel: black through blue to white at `threshold`, red beyond it,
 // so that failing pixels stand out.
 Picture error_picture(const std::vector<float>& z, int width, int height, double threshold);

@@ -2,13 +2,15 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <thread>
 #include <vector>
 
+#include "clock.h"
+#include "image_io.h"
 #include "text.h"
 
 namespace grader {
@@ -22,18 +24,18 @@ bool load_reference(const std::string& root, const Case& c, Reference* ref, std:
     return false;
   }
   try {
-    ref->meta = read_json_file(dir + "/meta.json");
+    ref->meta = pt::read_json_file(dir + "/meta.json");
     if (ref->meta.str("digest") != case_digest(c)) {
       *why = "the reference in " + dir + " was made for another definition of the case (remake it)";
       return false;
     }
     ref->runs = int(ref->meta.num("runs", 0));
     ref->deterministic = ref->meta.flag("deterministic");
-    ref->mean = read_pfm_image(dir + "/mean.pfm");
-    ref->variance = read_pfm_image(dir + "/variance.pfm");
+    ref->mean = pt::read_pfm(dir + "/mean.pfm");
+    ref->variance = pt::read_pfm(dir + "/variance.pfm");
     if (c.kind == CaseKind::Rate) {
-      ref->rate_mean = read_pfm_image(dir + "/rate_mean.pfm");
-      ref->rate_variance = read_pfm_image(dir + "/rate_variance.pfm");
+      ref->rate_mean = pt::read_pfm(dir + "/rate_mean.pfm");
+      ref->rate_variance = pt::read_pfm(dir + "/rate_variance.pfm");
     }
   } catch (const std::exception& e) {
     *why = std::string("broken reference: ") + e.what();
@@ -47,30 +49,38 @@ namespace {
 // Welford's running mean and M2 per pixel channel, in double precision.
 struct Accumulator {
   int n = 0;
-  int width = 0, height = 0, channels = 0;
-  std::vector<double> mean, m2;
-  void add(const Image& img) {
+  int width = 0, height = 0;
+  std::vector<double> mean, m2;  // three per pixel, in the image's order
+  void add(const ImageBuffer& img) {
     if (n == 0) {
-      width = img.width, height = img.height, channels = img.channels;
-      mean.assign(img.data.size(), 0.0);
-      m2.assign(img.data.size(), 0.0);
+      width = img.width, height = img.height;
+      mean.assign(img.pixels.size() * 3, 0.0);
+      m2.assign(img.pixels.size() * 3, 0.0);
     }
     ++n;
-    for (size_t i = 0; i < img.data.size(); ++i) {
-      const double d = img.data[i] - mean[i];
+    for (size_t i = 0; i < mean.size(); ++i) {
+      const double v = img.pixels[i / 3][int(i % 3)];
+      const double d = v - mean[i];
       mean[i] += d / n;
-      m2[i] += d * (img.data[i] - mean[i]);
+      m2[i] += d * (v - mean[i]);
     }
   }
-  Image mean_image() const {
-    Image img(width, height, channels);
-    for (size_t i = 0; i < mean.size(); ++i) img.data[i] = float(mean[i]);
+  ImageBuffer mean_image() const {
+    ImageBuffer img(width, height);
+    for (size_t i = 0; i < mean.size(); ++i) img.pixels[i / 3][int(i % 3)] = float(mean[i]);
     return img;
   }
-  Image variance_image() const {
-    Image img(width, height, channels);
-    for (size_t i = 0; i < m2.size(); ++i) img.data[i] = n > 1 ? float(m2[i] / (n - 1)) : 0.0f;
+  ImageBuffer variance_image() const {
+    ImageBuffer img(width, height);
+    for (size_t i = 0; i < m2.size(); ++i) img.pixels[i / 3][int(i % 3)] = n > 1 ? float(m2[i] / (n - 1)) : 0.0f;
     return img;
+  }
+  // The mean over every pixel channel, summed rows from the top.
+  double mean_radiance() const {
+    double sum = 0;
+    for (int row = 0; row < height; ++row)
+      for (size_t i = size_t(height - 1 - row) * width * 3; i < size_t(height - row) * width * 3; ++i) sum += mean[i];
+    return sum / double(std::max<size_t>(1, mean.size()));
   }
 };
 
@@ -95,10 +105,23 @@ double median(std::vector<double> v) {
 
 // The medians of the costs, as the grader's cost checks read them.
 void record_costs(Json* meta, const CostSamples& c) {
-  set_number(meta, "tests_per_ray", median(c.tests_per_ray));
-  set_number(meta, "shadow_per_query", median(c.shadow_per_query));
-  set_number(meta, "closest_tests_per_query", median(c.closest_tests));
-  set_number(meta, "shadow_tests_per_query", median(c.shadow_tests));
+  meta->set("tests_per_ray", pt::json_real(median(c.tests_per_ray)))
+      .set("shadow_per_query", pt::json_real(median(c.shadow_per_query)))
+      .set("closest_tests_per_query", pt::json_real(median(c.closest_tests)))
+      .set("shadow_tests_per_query", pt::json_real(median(c.shadow_tests)));
+}
+
+// meta.json: one member per line, keys in alphabetical order (a key set
+// twice keeps its last value), so that a remade reference diffs cleanly.
+std::string meta_text(const Json& meta) {
+  std::map<std::string, Json> sorted;
+  for (const auto& [key, value] : meta.members) sorted[key] = value;
+  Json out = pt::json_object();
+  for (const auto& [key, value] : sorted) {
+    const bool scalar = value.type != Json::Type::Array && value.type != Json::Type::Object;
+    out.set(key, scalar ? value : Json());
+  }
+  return pt::write_json(out);
 }
 
 }  // namespace
@@ -114,7 +137,7 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
     }
   }
   const bool want_rate = c.kind == CaseKind::Rate;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = pt::Clock::now();
 
   // Two runs first: when they agree exactly the image is deterministic
   // (normal shading at one sample per pixel) and two are all it needs.
@@ -122,7 +145,7 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
   Accumulator radiance, rate;
   std::vector<double> seconds, render_seconds;
   CostSamples costs;
-  std::vector<Image> first_two(2);
+  std::vector<ImageBuffer> first_two(2);
   std::string failure;
   std::atomic<int> next{0};
   const auto worker = [&](int total) {
@@ -159,7 +182,7 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
     for (auto& t : pool) t.join();
   };
   run_batch(0, 2);
-  const bool deterministic = failure.empty() && first_two[0].data == first_two[1].data;
+  const bool deterministic = failure.empty() && first_two[0].pixels == first_two[1].pixels;
   if (failure.empty() && !deterministic && s.runs > 2) run_batch(2, s.runs);
   if (!failure.empty()) {
     *message = failure;
@@ -182,40 +205,36 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
   fs::create_directories(dir, ec);
   fs::remove(dir + "/meta.json", ec);  // incomplete until rewritten
   try {
-    write_pfm_image(dir + "/mean.pfm", radiance.mean_image());
-    write_pfm_image(dir + "/variance.pfm", radiance.variance_image());
+    pt::write_pfm(dir + "/mean.pfm", radiance.mean_image());
+    pt::write_pfm(dir + "/variance.pfm", radiance.variance_image());
     if (want_rate) {
-      write_pfm_image(dir + "/rate_mean.pfm", rate.mean_image());
-      write_pfm_image(dir + "/rate_variance.pfm", rate.variance_image());
+      pt::write_pfm(dir + "/rate_mean.pfm", rate.mean_image());
+      pt::write_pfm(dir + "/rate_variance.pfm", rate.variance_image());
     }
-    double mean_radiance = 0;
-    for (double v : radiance.mean) mean_radiance += v;
-    mean_radiance /= std::max<size_t>(1, radiance.mean.size());
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    Json meta;
-    set_string(&meta, "case", c.name);
-    set_string(&meta, "digest", case_digest(c));
-    set_string(&meta, "command", "pathtracer " + case_command(c) + " -t " + std::to_string(s.run.threads));
-    set_number(&meta, "runs", radiance.n);
-    set_bool(&meta, "deterministic", deterministic);
-    set_number(&meta, "first_seed", double(s.first_seed));
-    set_string(&meta, "commit", s.commit);
-    set_string(&meta, "date", utc_now());
-    set_number(&meta, "making_seconds", wall);
-    set_number(&meta, "process_seconds_median", median(seconds));
-    set_number(&meta, "render_seconds_median", median(render_seconds));
+    Json meta = pt::json_object();
+    meta.set("case", pt::json_text(c.name))
+        .set("digest", pt::json_text(case_digest(c)))
+        .set("command", pt::json_text("pathtracer " + case_command(c) + " -t " + std::to_string(s.run.threads)))
+        .set("runs", pt::json_real(radiance.n))
+        .set("deterministic", pt::json_bool(deterministic))
+        .set("first_seed", pt::json_real(double(s.first_seed)))
+        .set("commit", pt::json_text(s.commit))
+        .set("date", pt::json_text(utc_now()))
+        .set("making_seconds", pt::json_real(pt::seconds_since(t0)))
+        .set("process_seconds_median", pt::json_real(median(seconds)))
+        .set("render_seconds_median", pt::json_real(median(render_seconds)));
     record_costs(&meta, costs);
-    set_number(&meta, "part1_render_seconds", part1_seconds);
-    set_number(&meta, "part1_tests_per_ray", part1_tests_per_ray);
-    set_number(&meta, "mean_radiance", mean_radiance);
-    write_text(dir + "/meta.json", flat_json(meta));
+    meta.set("part1_render_seconds", pt::json_real(part1_seconds))
+        .set("part1_tests_per_ray", pt::json_real(part1_tests_per_ray))
+        .set("mean_radiance", pt::json_real(radiance.mean_radiance()));
+    write_text(dir + "/meta.json", meta_text(meta));
   } catch (const std::exception& e) {
     *message = e.what();
     return false;
   }
   char buf[160];
   std::snprintf(buf, sizeof buf, "%d runs%s, %.1f s", radiance.n, deterministic ? " (deterministic)" : "",
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                pt::seconds_since(t0));
   *message = buf;
   return true;
 }
@@ -246,14 +265,14 @@ bool retime_reference(const std::string& root, const Case& c, const MakeSettings
     part1 = p1.stats.num("render_seconds", 0);
   }
   Json& meta = ref.meta;
-  set_number(&meta, "process_seconds_median", median(seconds));
-  set_number(&meta, "render_seconds_median", median(render_seconds));
-  set_number(&meta, "timing_runs", runs);
+  meta.set("process_seconds_median", pt::json_real(median(seconds)))
+      .set("render_seconds_median", pt::json_real(median(render_seconds)))
+      .set("timing_runs", pt::json_real(runs));
   record_costs(&meta, costs);
-  if (c.kind == CaseKind::Speedup) set_number(&meta, "part1_render_seconds", part1);
-  set_string(&meta, "timing_date", utc_now());
+  if (c.kind == CaseKind::Speedup) meta.set("part1_render_seconds", pt::json_real(part1));
+  meta.set("timing_date", pt::json_text(utc_now()));
   try {
-    write_text(root + "/" + c.name + "/meta.json", flat_json(meta));
+    write_text(root + "/" + c.name + "/meta.json", meta_text(meta));
   } catch (const std::exception& e) {
     *message = e.what();
     return false;

@@ -16,8 +16,8 @@
 namespace grader {
 
 struct Reference {
-  Image mean, variance;
-  Image rate_mean, rate_variance;  // adaptive cases
+  ImageBuffer mean, variance;
+  ImageBuffer rate_mean, rate_variance;  // adaptive cases (the rate in every channel)
   int runs = 0;
   bool deterministic = false;      // every run gave the same image
   Json meta;

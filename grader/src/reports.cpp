@@ -7,7 +7,6 @@
 #include <sstream>
 
 #include "image_io.h"
-#include "json.h"
 #include "text.h"
 
 namespace grader {
@@ -123,7 +122,7 @@ std::string terminal_table(const std::vector<CaseResult>& rs) {
       if (r.c.part != part) continue;
       ++cases;
       passed += r.verdict == Verdict::Passed;
-      missing += not_implemented(r);
+      missing += doomed_by_todo(r);
       score += r.score;
       max += r.max_score;
     }
@@ -169,33 +168,41 @@ std::string timing_tables(const std::vector<CaseResult>& rs) {
 }
 
 std::string gradescope_json(const std::vector<CaseResult>& rs, const RunInfo& info) {
-  std::ostringstream s;
-  s << "{\n  \"score\": " << json_number(total(rs, false)) << ",\n"
-    << "  \"output\": " << json_quote("Graded " + std::to_string(rs.size()) + " cases in " +
-                                      fmt("%.0f", info.wall_seconds) + " s.")
-    << ",\n  \"visibility\": \"visible\",\n  \"stdout_visibility\": \"visible\",\n  \"tests\": [\n";
+  using pt::json_real;
+  using pt::json_text;
+  std::vector<Json> tests;
   for (size_t i = 0; i < rs.size(); ++i) {
     const CaseResult& r = rs[i];
     std::string output = std::string(verdict_name(r.verdict)) + ": " + r.message;
     if (!r.metric.empty()) output += "\n" + r.metric;
     output += "\nCommand: " + r.command;
     if (r.verdict != Verdict::Passed && !r.log.empty()) output += "\nOutput of the render:\n" + r.log;
-    s << "    {\n      \"name\": " << json_quote("Part " + std::to_string(r.c.part) + ": " + r.c.name) << ",\n"
-      << "      \"number\": " << json_quote(std::to_string(r.c.part) + "." + std::to_string(i + 1)) << ",\n"
-      << "      \"score\": " << json_number(r.score) << ",\n"
-      << "      \"max_score\": " << json_number(r.max_score) << ",\n"
-      << "      \"status\": " << (r.verdict == Verdict::Passed ? "\"passed\"" : "\"failed\"") << ",\n"
-      << "      \"output\": " << json_quote(output) << ",\n"
-      << "      \"visibility\": \"visible\",\n"
-      << "      \"extra_data\": {\"seconds\": " << json_number(r.seconds)
-      << ", \"render_seconds\": " << json_number(r.render_seconds)
-      << ", \"reference_seconds\": " << json_number(r.reference_seconds)
-      << ", \"speed_ratio\": " << json_number(r.speed_ratio) << ", \"relmse\": " << json_number(r.relmse)
-      << ", \"tests_per_ray\": " << json_number(r.tests_per_ray) << "}\n"
-      << "    }" << (i + 1 < rs.size() ? "," : "") << "\n";
+    Json extra = pt::json_object(true);
+    extra.set("seconds", json_real(r.seconds))
+        .set("render_seconds", json_real(r.render_seconds))
+        .set("reference_seconds", json_real(r.reference_seconds))
+        .set("speed_ratio", json_real(r.speed_ratio))
+        .set("relmse", json_real(r.relmse))
+        .set("tests_per_ray", json_real(r.tests_per_ray));
+    Json test = pt::json_object();
+    test.set("name", json_text("Part " + std::to_string(r.c.part) + ": " + r.c.name))
+        .set("number", json_text(std::to_string(r.c.part) + "." + std::to_string(i + 1)))
+        .set("score", json_real(r.score))
+        .set("max_score", json_real(r.max_score))
+        .set("status", json_text(r.verdict == Verdict::Passed ? "passed" : "failed"))
+        .set("output", json_text(output))
+        .set("visibility", json_text("visible"))
+        .set("extra_data", extra);
+    tests.push_back(test);
   }
-  s << "  ]\n}\n";
-  return s.str();
+  Json results = pt::json_object();
+  results.set("score", json_real(total(rs, false)))
+      .set("output", json_text("Graded " + std::to_string(rs.size()) + " cases in " + fmt("%.0f", info.wall_seconds) +
+                               " s."))
+      .set("visibility", json_text("visible"))
+      .set("stdout_visibility", json_text("visible"))
+      .set("tests", pt::json_array(tests));
+  return pt::write_json(results);
 }
 
 std::string html_report(const std::vector<CaseResult>& rs, const RunInfo& info) {

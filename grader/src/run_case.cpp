@@ -5,6 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "image_files.h"
+#include "image_io.h"
+
 namespace grader {
 
 namespace fs = std::filesystem;
@@ -76,12 +79,124 @@ std::string log_excerpt(const std::string& dir) {
 }
 
 // Checks an image file's size against the case's.
-bool size_matches(const Image& img, int w, int h, const std::string& what, std::string* failure) {
+bool size_matches(const ImageBuffer& img, int w, int h, const std::string& what, std::string* failure) {
   if (img.width == w && img.height == h) return true;
   char buf[200];
   std::snprintf(buf, sizeof buf, "%s is %d x %d, expected %d x %d", what.c_str(), img.width, img.height, w, h);
   *failure = buf;
   return false;
+}
+
+// The command line of a render of `c` into `abs_dir`.
+std::vector<std::string> render_argv(const RunSettings& s, const Case& c, int part, uint64_t seed,
+                                     const std::string& abs_dir) {
+  std::vector<std::string> argv = {fs::absolute(s.pathtracer).string(), "--part", std::to_string(part)};
+  // Files named by options (-e environment map, -c camera settings) live
+  // beside the scenes, like the scene itself.
+  for (size_t i = 0; i < c.options.size(); ++i) {
+    const bool names_file = i > 0 && (c.options[i - 1] == "-e" || c.options[i - 1] == "-c");
+    const fs::path value(c.options[i]);
+    argv.push_back(names_file && value.is_relative() ? fs::absolute(fs::path(s.scenes_dir) / value).string()
+                                                     : c.options[i]);
+  }
+  argv.insert(argv.end(), {"-t", std::to_string(s.threads)});
+  argv.insert(argv.end(), {"--seed", std::to_string(seed), "--no-progress", "-f", abs_dir + "/render.png", "--pfm",
+                           abs_dir + "/render.pfm", "--stats-json", abs_dir + "/stats.json",
+                           fs::absolute(fs::path(s.scenes_dir) / c.scene).string()});
+  return argv;
+}
+
+// Checks the files of a render that exited normally in `abs_dir` and reads
+// them into `out`: the folder's size, the PNG, the PFM (finite, not
+// negative), the rate PNG when `want_rate`, and the statistics when there
+// are any. False with out->failure set at the first problem.
+bool read_outputs(const RunSettings& s, const Case& c, const std::string& abs_dir, bool want_rate, RenderOutput* out) {
+  std::error_code ec;
+  const uint64_t bytes = directory_bytes(abs_dir);
+  if (bytes > s.output_bytes) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "wrote %.0f MB, more than the %.0f MB limit", double(bytes) / (1 << 20),
+                  double(s.output_bytes) / (1 << 20));
+    out->failure = buf;
+    return false;
+  }
+  int w = 0, h = 0;
+  case_resolution(c, &w, &h);
+  // Every file read must be a regular file: opening a named pipe that no
+  // one writes would block the grader forever.
+  const auto present = [&](const std::string& path, const std::string& name, const std::string& flag) {
+    std::error_code st_ec;
+    const fs::file_status st = fs::status(path, st_ec);
+    if (!fs::exists(st)) out->failure = "wrote no " + name + " (" + flag + ")";
+    else if (!fs::is_regular_file(st)) out->failure = "the " + name + " (" + flag + ") is not a regular file";
+    return fs::is_regular_file(st);
+  };
+  // The course's PNG must be there and be a real PNG of the right size.
+  if (!present(abs_dir + "/render.png", "image", "-f render.png")) return false;
+  try {
+    const ImageBuffer png = read_png_image(abs_dir + "/render.png");
+    if (!size_matches(png, w, h, "the PNG image", &out->failure)) return false;
+  } catch (const std::exception& e) {
+    out->failure = std::string("unreadable PNG: ") + e.what();
+    return false;
+  }
+  // The float image is what gets scored.
+  if (!present(abs_dir + "/render.pfm", "floating-point image", "--pfm render.pfm")) return false;
+  try {
+    out->radiance = pt::read_pfm(abs_dir + "/render.pfm");
+  } catch (const std::exception& e) {
+    out->failure = std::string("unreadable PFM: ") + e.what();
+    return false;
+  }
+  if (!size_matches(out->radiance, w, h, "the PFM image", &out->failure)) return false;
+  int fx = 0, fy = 0;
+  if (const int bad = count_non_finite(out->radiance, &fx, &fy)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d pixel%s NaN or infinite (the first at x=%d, y=%d from the top)", bad,
+                  bad == 1 ? " is" : "s are", fx, fy);
+    out->failure = buf;
+    return false;
+  }
+  // Radiance is never negative; a negative pixel means a negative
+  // contribution was added (a light sample below the surface, say).
+  // Float round-off of a correct sum can dip just below zero (-1e-7 on
+  // values near 1), so only values below -kNegativeTolerance count.
+  constexpr float kNegativeTolerance = 1e-4f;
+  int negative = 0, nx = 0, ny = 0;
+  for (int y = 0; y < out->radiance.height; ++y)
+    for (int x = 0; x < out->radiance.width; ++x)
+      for (int ch = 0; ch < 3; ++ch)
+        if (value_from_top(out->radiance, x, y, ch) < -kNegativeTolerance) {
+          if (negative++ == 0) nx = x, ny = y;
+          break;
+        }
+  if (negative > 0) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d pixel%s negative radiance below -1e-4 (the first at x=%d, y=%d from the top)", negative,
+                  negative == 1 ? " has" : "s have", nx, ny);
+    out->failure = buf;
+    return false;
+  }
+  if (want_rate) {
+    const std::string rate_path = abs_dir + "/render_rate.png";
+    if (!present(rate_path, "sample-rate image", "render_rate.png")) return false;
+    try {
+      out->rate = rate_from_colors(read_png_image(rate_path));
+    } catch (const std::exception& e) {
+      out->failure = std::string("unreadable rate PNG: ") + e.what();
+      return false;
+    }
+    if (!size_matches(out->rate, w, h, "the rate image", &out->failure)) return false;
+  }
+  if (fs::is_regular_file(abs_dir + "/stats.json", ec)) {
+    try {
+      out->stats = pt::read_json_file(abs_dir + "/stats.json");
+      out->has_stats = out->stats.type == Json::Type::Object;
+    } catch (const std::exception&) {
+      out->has_stats = false;  // only cost cases need it; they say so
+    }
+  }
+  return true;
 }
 
 }  // namespace
@@ -97,19 +212,7 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
     return out;
   }
   const std::string abs_dir = fs::absolute(dir).string();
-  std::vector<std::string> argv = {fs::absolute(s.pathtracer).string(), "--part", std::to_string(part)};
-  // Files named by options (-e environment map, -c camera settings) live
-  // beside the scenes, like the scene itself.
-  for (size_t i = 0; i < c.options.size(); ++i) {
-    const bool names_file = i > 0 && (c.options[i - 1] == "-e" || c.options[i - 1] == "-c");
-    const fs::path value(c.options[i]);
-    argv.push_back(names_file && value.is_relative() ? fs::absolute(fs::path(s.scenes_dir) / value).string()
-                                                     : c.options[i]);
-  }
-  argv.insert(argv.end(), {"-t", std::to_string(s.threads)});
-  argv.insert(argv.end(), {"--seed", std::to_string(seed), "--no-progress", "-f", abs_dir + "/render.png", "--pfm",
-                           abs_dir + "/render.pfm", "--stats-json", abs_dir + "/stats.json",
-                           fs::absolute(fs::path(s.scenes_dir) / c.scene).string()});
+  const std::vector<std::string> argv = render_argv(s, c, part, seed, abs_dir);
   Limits limits;
   limits.wall_seconds = c.timeout_seconds * s.timeout_scale;
   limits.cpu_seconds = limits.wall_seconds * (s.threads + 1);
@@ -126,91 +229,7 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
     out.failure = describe(out.child, limits);
     return out;
   }
-  const uint64_t bytes = directory_bytes(abs_dir);
-  if (bytes > s.output_bytes) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "wrote %.0f MB, more than the %.0f MB limit", double(bytes) / (1 << 20),
-                  double(s.output_bytes) / (1 << 20));
-    out.failure = buf;
-    return out;
-  }
-  int w = 0, h = 0;
-  case_resolution(c, &w, &h);
-  // Every file read must be a regular file: opening a named pipe that no
-  // one writes would block the grader forever.
-  const auto present = [&](const std::string& path, const std::string& name, const std::string& flag) {
-    std::error_code st_ec;
-    const fs::file_status st = fs::status(path, st_ec);
-    if (!fs::exists(st)) out.failure = "wrote no " + name + " (" + flag + ")";
-    else if (!fs::is_regular_file(st)) out.failure = "the " + name + " (" + flag + ") is not a regular file";
-    return fs::is_regular_file(st);
-  };
-  // The course's PNG must be there and be a real PNG of the right size.
-  if (!present(abs_dir + "/render.png", "image", "-f render.png")) return out;
-  try {
-    const Image png = read_png_image(abs_dir + "/render.png");
-    if (!size_matches(png, w, h, "the PNG image", &out.failure)) return out;
-  } catch (const std::exception& e) {
-    out.failure = std::string("unreadable PNG: ") + e.what();
-    return out;
-  }
-  // The float image is what gets scored.
-  if (!present(abs_dir + "/render.pfm", "floating-point image", "--pfm render.pfm")) return out;
-  try {
-    out.radiance = read_pfm_image(abs_dir + "/render.pfm");
-  } catch (const std::exception& e) {
-    out.failure = std::string("unreadable PFM: ") + e.what();
-    return out;
-  }
-  if (!size_matches(out.radiance, w, h, "the PFM image", &out.failure)) return out;
-  int fx = 0, fy = 0;
-  if (const int bad = count_non_finite(out.radiance, &fx, &fy)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%d pixel%s NaN or infinite (the first at x=%d, y=%d from the top)", bad,
-                  bad == 1 ? " is" : "s are", fx, fy);
-    out.failure = buf;
-    return out;
-  }
-  // Radiance is never negative; a negative pixel means a negative
-  // contribution was added (a light sample below the surface, say).
-  // Float round-off of a correct sum can dip just below zero (-1e-7 on
-  // values near 1), so only values below -kNegativeTolerance count.
-  constexpr float kNegativeTolerance = 1e-4f;
-  int negative = 0, nx = 0, ny = 0;
-  for (int y = 0; y < out.radiance.height; ++y)
-    for (int x = 0; x < out.radiance.width; ++x)
-      for (int ch = 0; ch < 3; ++ch)
-        if (out.radiance.at(x, y, ch) < -kNegativeTolerance) {
-          if (negative++ == 0) nx = x, ny = y;
-          break;
-        }
-  if (negative > 0) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%d pixel%s negative radiance below -1e-4 (the first at x=%d, y=%d from the top)", negative,
-                  negative == 1 ? " has" : "s have", nx, ny);
-    out.failure = buf;
-    return out;
-  }
-  if (want_rate) {
-    const std::string rate_path = abs_dir + "/render_rate.png";
-    if (!present(rate_path, "sample-rate image", "render_rate.png")) return out;
-    try {
-      out.rate = rate_from_colors(read_png_image(rate_path));
-    } catch (const std::exception& e) {
-      out.failure = std::string("unreadable rate PNG: ") + e.what();
-      return out;
-    }
-    if (!size_matches(out.rate, w, h, "the rate image", &out.failure)) return out;
-  }
-  if (fs::is_regular_file(abs_dir + "/stats.json", ec)) {
-    try {
-      out.stats = read_json_file(abs_dir + "/stats.json");
-      out.has_stats = out.stats.type == Json::Type::Object;
-    } catch (const std::exception&) {
-      out.has_stats = false;  // only cost cases need it; they say so
-    }
-  }
-  out.ok = true;
+  out.ok = read_outputs(s, c, abs_dir, want_rate, &out);
   return out;
 }
 

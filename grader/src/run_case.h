@@ -13,6 +13,8 @@
 
 namespace grader {
 
+using pt::Json;
+
 struct RunSettings {
   std::string pathtracer;      // the binary under test
   std::string scenes_dir;      // where case scenes are found
@@ -27,8 +29,8 @@ struct RenderOutput {
   std::string failure;      // one line: why not
   ChildResult child;
   double seconds = 0;       // wall-clock, whole process
-  Image radiance;           // from the PFM
-  Image rate;               // 1 channel, when `want_rate`
+  ImageBuffer radiance;     // from the PFM
+  ImageBuffer rate;         // the rate in every channel, when `want_rate`
   bool has_stats = false;
   Json stats;               // --stats-json
   std::string log;          // stdout + stderr excerpt, sanitised

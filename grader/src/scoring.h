@@ -35,27 +35,19 @@
 #include <string>
 #include <vector>
 
+#include "image.h"
+
 namespace grader {
 
-// A floating-point image, row 0 at the top, `channels` floats per pixel.
-struct Image {
-  int width = 0, height = 0, channels = 3;
-  std::vector<float> data;
-  Image() = default;
-  Image(int w, int h, int c) : width(w), height(h), channels(c), data(size_t(w) * h * c, 0.0f) {}
-  float& at(int x, int y, int c) { return data[(size_t(y) * width + x) * channels + c]; }
-  float at(int x, int y, int c) const { return data[(size_t(y) * width + x) * channels + c]; }
-};
-
-// Reads a colour PFM into a top-row-first image. Throws with the file name.
-Image read_pfm_image(const std::string& path);
-void write_pfm_image(const std::string& path, const Image& img);
-// Reads an 8-bit PNG (RGB). Throws "<path>: <lodepng's reason>".
-Image read_png_image(const std::string& path);
-// The course's sample-rate colours back to rates in [0, 1] (1 channel).
-Image rate_from_colors(const Image& rgb);
+// Images are the renderer's ImageBuffer (pixel (0, 0) at the bottom left,
+// three channels). The statistics walk them as they are seen, rows from the
+// top: the 8x8 blocks start at the top-left corner, and per-pixel results
+// (pixel_z) and positions in messages count rows from the top, as the
+// pictures (pictures.h) do.
+using pt::ImageBuffer;
 
 struct ScoreOptions {
+  int channels = 3;                  // colour channels scored: 1 for a sample-rate image (the rate is in each)
   double alpha = 0.01;               // family-wise, per test kind
   double min_pass_fraction = 0.9975; // of pixel channels
   double variance_floor = 1e-4;      // on v (1 + 1/B)
@@ -105,15 +97,19 @@ struct ImageScore {
 };
 
 // The sizes must agree (checked by the caller); values must be finite.
-ImageScore score_image(const Image& candidate, const Image& mean, const Image& variance, int reference_runs,
-                       const ScoreOptions& opts);
+ImageScore score_image(const ImageBuffer& candidate, const ImageBuffer& mean, const ImageBuffer& variance,
+                       int reference_runs, const ScoreOptions& opts);
 
 // The two-sided standard-normal threshold z with P(|Z| > z) = p.
 double normal_two_sided_threshold(double p);
 // Šidák: the per-test level giving family-wise level alpha over n tests.
 double sidak_level(double alpha, int n);
 
-// Counts non-finite values; `first` gets the first one's pixel.
-int count_non_finite(const Image& img, int* first_x, int* first_y);
+// The value of channel `c` at column x of row `row` counted from the top.
+inline float value_from_top(const ImageBuffer& img, int x, int row, int c) { return img.at(x, img.height - 1 - row)[c]; }
+
+// Counts pixels with a non-finite channel; `first_x`, `first_y` get the
+// first one's position (rows from the top).
+int count_non_finite(const ImageBuffer& img, int* first_x, int* first_y);
 
 }  // namespace grader

@@ -9,6 +9,7 @@
 #include "case_list.h"
 #include "grade.h"
 #include "reports.h"
+#include "image_files.h"
 #include "image_io.h"
 #include "json.h"
 #include "scoring.h"
@@ -18,17 +19,23 @@ using namespace grader;
 
 namespace {
 
-Image constant(int w, int h, float v) {
-  Image img(w, h, 3);
-  for (float& x : img.data) x = v;
+ImageBuffer constant(int w, int h, float v) {
+  ImageBuffer img(w, h);
+  for (pt::Color& p : img.pixels) p = pt::Color(v);
   return img;
 }
 
-// One "render": the mean plus Gaussian noise of the given variance.
-Image noisy(const Image& mean, double variance, double bias, std::mt19937_64& rng) {
+// Channel c of pixel (x, row), rows counted from the top.
+float& top(ImageBuffer& img, int x, int row, int c) { return img.at(x, img.height - 1 - row)[c]; }
+
+// One "render": the mean plus Gaussian noise of the given variance (drawn
+// row by row from the top).
+ImageBuffer noisy(const ImageBuffer& mean, double variance, double bias, std::mt19937_64& rng) {
   std::normal_distribution<double> n(0.0, std::sqrt(variance));
-  Image img = mean;
-  for (float& x : img.data) x = float(x + bias + n(rng));
+  ImageBuffer img = mean;
+  for (int row = 0; row < img.height; ++row)
+    for (int x = 0; x < img.width; ++x)
+      for (int c = 0; c < 3; ++c) top(img, x, row, c) = float(top(img, x, row, c) + bias + n(rng));
   return img;
 }
 
@@ -45,8 +52,8 @@ TEST_CASE("Sidak level and normal threshold match tabulated values", "[grader]")
 // alpha = 0.01 per image and test kind; 200 images; at most 6 failures
 // (P(Binomial(200, 0.01) > 6) < 0.005), seeded.
 TEST_CASE("Renders drawn from the reference distribution pass (false-failure rate)", "[grader]") {
-  const Image mean = constant(64, 48, 0.5f);
-  const Image var = constant(64, 48, 0.01f);
+  const ImageBuffer mean = constant(64, 48, 0.5f);
+  const ImageBuffer var = constant(64, 48, 0.01f);
   std::mt19937_64 rng(184);
   int failures = 0;
   for (int i = 0; i < 200; ++i) failures += !score_image(noisy(mean, 0.01, 0.0, rng), mean, var, 100000, {}).passed;
@@ -54,8 +61,8 @@ TEST_CASE("Renders drawn from the reference distribution pass (false-failure rat
 }
 
 TEST_CASE("A bias of one standard deviation is caught by the block test, not the pixel test", "[grader]") {
-  const Image mean = constant(64, 48, 0.5f);
-  const Image var = constant(64, 48, 0.01f);
+  const ImageBuffer mean = constant(64, 48, 0.5f);
+  const ImageBuffer var = constant(64, 48, 0.01f);
   std::mt19937_64 rng(7);
   const ImageScore s = score_image(noisy(mean, 0.01, 0.1, rng), mean, var, 100000, {});
   CHECK_FALSE(s.passed);
@@ -65,8 +72,8 @@ TEST_CASE("A bias of one standard deviation is caught by the block test, not the
 }
 
 TEST_CASE("Without the block and mean tests the same bias passes: they are what catch it", "[grader]") {
-  const Image mean = constant(64, 48, 0.5f);
-  const Image var = constant(64, 48, 0.01f);
+  const ImageBuffer mean = constant(64, 48, 0.5f);
+  const ImageBuffer var = constant(64, 48, 0.01f);
   std::mt19937_64 rng(7);
   ScoreOptions o;
   o.block_test = false;
@@ -80,14 +87,14 @@ TEST_CASE("Without the block and mean tests the same bias passes: they are what 
 // standard errors off. 20 seeded images; the block test alone lets at
 // least 18 of them through (it fails one in ~25 at this bias).
 TEST_CASE("A bias spread thinly over a noisy image fails the image-mean test, where blocks miss it", "[grader]") {
-  const Image mean = constant(128, 96, 0.5f);
-  const Image var = constant(128, 96, 0.25f);
+  const ImageBuffer mean = constant(128, 96, 0.5f);
+  const ImageBuffer var = constant(128, 96, 0.25f);
   std::mt19937_64 rng(14);
   ScoreOptions blocks_only;
   blocks_only.mean_test = false;
   int missed_by_blocks = 0;
   for (int i = 0; i < 20; ++i) {
-    const Image c = noisy(mean, 0.25, -0.04, rng);
+    const ImageBuffer c = noisy(mean, 0.25, -0.04, rng);
     const ImageScore s = score_image(c, mean, var, 100000, {});
     CHECK(s.mean_failed);
     CHECK_FALSE(s.passed);
@@ -98,24 +105,24 @@ TEST_CASE("A bias spread thinly over a noisy image fails the image-mean test, wh
 }
 
 TEST_CASE("A deterministic image tolerates round-off and a few edge pixels, not a 3 % shading error", "[grader]") {
-  const Image mean = constant(100, 100, 0.25f);
-  const Image var = constant(100, 100, 0.0f);
+  const ImageBuffer mean = constant(100, 100, 0.25f);
+  const ImageBuffer var = constant(100, 100, 0.0f);
   ScoreOptions o;
   o.deterministic = true;
   o.block_test = o.mean_test = false;
-  Image c = mean;
-  for (int i = 0; i < 20; ++i) c.at(i, 0, 0) = 1.0f;  // 20 of 30000 channels (0.07%): edge pixels
+  ImageBuffer c = mean;
+  for (int i = 0; i < 20; ++i) top(c, i, 0, 0) = 1.0f;  // 20 of 30000 channels (0.07%): edge pixels
   CHECK(score_image(c, mean, var, 2, o).passed);
-  for (int i = 0; i < 100; ++i) c.at(i, 1, 1) = 1.0f;  // 120 of 30000 (0.4%)
+  for (int i = 0; i < 100; ++i) top(c, i, 1, 1) = 1.0f;  // 120 of 30000 (0.4%)
   CHECK_FALSE(score_image(c, mean, var, 2, o).passed);
   // Float round-off of a different but correct computation passes.
-  Image d = mean;
-  for (float& x : d.data) x *= 1.0f + 3e-6f;
+  ImageBuffer d = mean;
+  for (pt::Color& p : d.pixels) p = p * (1.0f + 3e-6f);
   CHECK(score_image(d, mean, var, 2, o).channels_failed == 0);
   // A systematic 3 % error (0.0075 here) fails every channel, where the z
   // test's variance floor (sd 0.01) would have let it through.
-  Image e = mean;
-  for (float& x : e.data) x *= 1.03f;
+  ImageBuffer e = mean;
+  for (pt::Color& p : e.pixels) p = p * 1.03f;
   const ImageScore s = score_image(e, mean, var, 2, o);
   CHECK(s.channels_failed == s.channels_tested);
   CHECK_FALSE(s.passed);
@@ -125,11 +132,11 @@ TEST_CASE("A deterministic image tolerates round-off and a few edge pixels, not 
 }
 
 TEST_CASE("A pixel whose reference variance is a hole takes its neighbours' variance", "[grader]") {
-  const Image mean = constant(16, 16, 0.1f);
-  Image var = constant(16, 16, 0.04f);
-  var.at(8, 8, 0) = 0.0f;  // a rare path never seen there by the reference renders
-  Image c = mean;
-  c.at(8, 8, 0) = 0.6f;    // 2.5 sigma of its neighbours: an ordinary draw
+  const ImageBuffer mean = constant(16, 16, 0.1f);
+  ImageBuffer var = constant(16, 16, 0.04f);
+  top(var, 8, 8, 0) = 0.0f;  // a rare path never seen there by the reference renders
+  ImageBuffer c = mean;
+  top(c, 8, 8, 0) = 0.6f;    // 2.5 sigma of its neighbours: an ordinary draw
   ScoreOptions o;
   o.block_test = false;
   const ImageScore s = score_image(c, mean, var, 100, o);
@@ -137,47 +144,47 @@ TEST_CASE("A pixel whose reference variance is a hole takes its neighbours' vari
 }
 
 TEST_CASE("relMSE of noise alone is near its expected value", "[grader]") {
-  const Image mean = constant(64, 48, 0.5f);
-  const Image var = constant(64, 48, 0.01f);
+  const ImageBuffer mean = constant(64, 48, 0.5f);
+  const ImageBuffer var = constant(64, 48, 0.01f);
   std::mt19937_64 rng(3);
   const ImageScore s = score_image(noisy(mean, 0.01, 0.0, rng), mean, var, 100000, {});
   CHECK(s.relmse == Approx(s.relmse_expected).epsilon(0.05));
 }
 
 TEST_CASE("Sample-rate colours decode back to the rate within one 8-bit step", "[grader]") {
-  Image rgb(101, 1, 3);
+  ImageBuffer rgb(101, 1);
   for (int i = 0; i <= 100; ++i) {
     uint8_t c[3];
     pt::rate_to_rgb(i / 100.0f, c);
-    for (int k = 0; k < 3; ++k) rgb.at(i, 0, k) = c[k];
+    for (int k = 0; k < 3; ++k) rgb.at(i, 0)[k] = c[k];
   }
-  const Image rate = rate_from_colors(rgb);
-  for (int i = 0; i <= 100; ++i) CHECK(rate.at(i, 0, 0) == Approx(i / 100.0).margin(1.0 / 255));
+  const ImageBuffer rate = rate_from_colors(rgb);
+  for (int i = 0; i <= 100; ++i) CHECK(rate.at(i, 0)[0] == Approx(i / 100.0).margin(1.0 / 255));
 }
 
-TEST_CASE("PFM images round-trip through the grader's top-row-first layout", "[grader]") {
+TEST_CASE("PFM images round-trip through the image type the renderer and the grader share", "[grader]") {
   pt::test::TempDir dir;
-  Image img(3, 2, 3);
-  for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = float(i) * 0.5f;
-  write_pfm_image(dir.file("a.pfm"), img);
-  const Image back = read_pfm_image(dir.file("a.pfm"));
+  ImageBuffer img(3, 2);
+  for (size_t i = 0; i < img.pixels.size() * 3; ++i) img.pixels[i / 3][int(i % 3)] = float(i) * 0.5f;
+  pt::write_pfm(dir.file("a.pfm"), img);
+  const ImageBuffer back = pt::read_pfm(dir.file("a.pfm"));
   REQUIRE(back.width == 3);
   REQUIRE(back.height == 2);
-  CHECK(back.data == img.data);
+  CHECK(back.pixels == img.pixels);
 }
 
 TEST_CASE("JSON: values, escapes and errors with offsets", "[grader]") {
-  const Json j = parse_json(R"({"a": [1, 2.5, -3e2], "s": "x\"y\\n\u0041", "t": true, "n": null, "o": {"k": 1}})", "t");
+  const Json j = pt::parse_json(R"({"a": [1, 2.5, -3e2], "s": "x\"y\\n\u0041", "t": true, "n": null, "o": {"k": 1}})", "t");
   CHECK(j.get("a")->array.size() == 3);
   CHECK(j.get("a")->array[2].number == -300.0);
   CHECK(j.str("s") == "x\"y\\nA");
   CHECK(j.flag("t"));
   CHECK(j.get("o")->num("k") == 1.0);
   CHECK(j.num("missing", 7.0) == 7.0);
-  CHECK_THROWS_WITH(parse_json("{\"a\": }", "f.json"), Catch::Contains("f.json") && Catch::Contains("offset"));
-  CHECK_THROWS(parse_json("[1, 2", "f.json"));
-  CHECK(parse_json(json_quote("a\"b\n\x01"), "q").string == "a\"b\n\x01");
-  CHECK(json_number(std::nan("")) == "null");
+  CHECK_THROWS_WITH(pt::parse_json("{\"a\": }", "f.json"), Catch::Contains("f.json") && Catch::Contains("offset"));
+  CHECK_THROWS(pt::parse_json("[1, 2", "f.json"));
+  CHECK(pt::parse_json(pt::json_quote("a\"b\n\x01"), "q").string == "a\"b\n\x01");
+  CHECK(pt::json_number(std::nan("")) == "null");
 }
 
 TEST_CASE("The case list rejects malformed lines naming file and line", "[grader]") {
@@ -205,17 +212,17 @@ TEST_CASE("A case's digest changes with its options, so stale references are ref
 }
 
 TEST_CASE("One deviant block passes as a lone outlier, but two deviant blocks fail", "[grader]") {
-  const Image mean = constant(64, 48, 0.5f);
-  const Image var = constant(64, 48, 0.01f);
-  Image c = mean;
+  const ImageBuffer mean = constant(64, 48, 0.5f);
+  const ImageBuffer var = constant(64, 48, 0.01f);
+  ImageBuffer c = mean;
   // Every pixel of block (0, 0) shifted by 1.5 sigma: block z = 12.
   for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) c.at(x, y, 0) += 0.15f;
+    for (int x = 0; x < 8; ++x) top(c, x, y, 0) += 0.15f;
   ImageScore s = score_image(c, mean, var, 100000, {});
   CHECK(s.distinct_blocks_failed == 1);
   CHECK(s.passed);
   for (int y = 0; y < 8; ++y)
-    for (int x = 16; x < 24; ++x) c.at(x, y, 1) += 0.15f;
+    for (int x = 16; x < 24; ++x) top(c, x, y, 1) += 0.15f;
   s = score_image(c, mean, var, 100000, {});
   CHECK(s.distinct_blocks_failed == 2);
   CHECK_FALSE(s.passed);
@@ -251,7 +258,7 @@ TEST_CASE("The terminal table keeps its columns apart for long times and large t
 }
 
 TEST_CASE("A deterministic image's summary says nothing of blocks it never tested", "[grader]") {
-  const Image mean = constant(8, 8, 0.25f);
+  const ImageBuffer mean = constant(8, 8, 0.25f);
   ScoreOptions o;
   o.deterministic = true;
   o.block_test = o.mean_test = false;
@@ -272,23 +279,23 @@ TEST_CASE("Rate images: one batch more at scattered pixels passes with one step 
   // The reference as its runs estimate it in the long run: a step of 0.25
   // with probability 0.01 (most pixels' own estimate is 0, which the
   // neighbourhood rule repairs only in part).
-  const Image mean = constant(160, 120, 0.2525f), var = constant(160, 120, float(0.0625 * 0.01 * 0.99));
+  const ImageBuffer mean = constant(160, 120, 0.2525f), var = constant(160, 120, float(0.0625 * 0.01 * 0.99));
   ScoreOptions ro;
   ro.variance_floor = 1e-3;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  Image one_more = constant(160, 120, 0.25f);
-  for (size_t p = 0; p < one_more.data.size() / 3; ++p)
+  ImageBuffer one_more = constant(160, 120, 0.25f);
+  for (int p = 0; p < 160 * 120; ++p)  // row by row from the top
     if (u(rng) < 0.01)
-      for (int c = 0; c < 3; ++c) one_more.data[3 * p + c] = 0.5f;
+      for (int c = 0; c < 3; ++c) top(one_more, p % 160, p / 160, c) = 0.5f;
   CHECK_FALSE(score_image(one_more, mean, var, 100, ro).passed);  // without slack: dozens of |z| = 7.9 pixels
   ro.pixel_slack = 0.25;
   CHECK(score_image(one_more, mean, var, 100, ro).passed);
 
-  Image never_stops = one_more;
+  ImageBuffer never_stops = one_more;
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 160; ++x)
-      for (int c = 0; c < 3; ++c) never_stops.at(x, y, c) = 1.0f;
+      for (int c = 0; c < 3; ++c) top(never_stops, x, y, c) = 1.0f;
   const ImageScore s = score_image(never_stops, mean, var, 100, ro);
   CHECK_FALSE(s.passed);
   CHECK(s.channels_failed >= 30 * 160 * 3);

@@ -60,7 +60,8 @@
 #include "frame.h"
 #include "render_job.h"
 #include "samplers.h"
-#include "statistics.h"
+#include "statistics/analytic_scenes.h"
+#include "statistics/hypothesis_tests.h"
 #include "support.h"
 
 using namespace pt;

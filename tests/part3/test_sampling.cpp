@@ -38,7 +38,10 @@
 #include "lights.h"
 #include "rng.h"
 #include "samplers.h"
-#include "statistics.h"
+#include "statistics/analytic_scenes.h"
+#include "statistics/direction_bins.h"
+#include "statistics/hypothesis_tests.h"
+#include "statistics/special_functions.h"
 
 using namespace pt;
 using namespace pt::test;

@@ -42,7 +42,9 @@
 #include "lights.h"
 #include "global_illumination.h"
 #include "render_job.h"
-#include "statistics.h"
+#include "statistics/analytic_scenes.h"
+#include "statistics/hypothesis_tests.h"
+#include "statistics/special_functions.h"
 #include "stats.h"
 #include "support.h"
 

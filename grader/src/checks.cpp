@@ -1,0 +1,142 @@
+#include "checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "text.h"
+
+namespace grader {
+
+double partial_credit(const ImageScore& s, double points) {
+  // A black image of a dim scene has a small relMSE, yet is simply wrong.
+  if (std::fabs(s.mean_candidate - s.mean_reference) > 0.1 * std::fabs(s.mean_reference)) return 0.0;
+  const double excess = std::max(0.0, s.relmse - s.relmse_expected);
+  return 0.5 * points * std::clamp(1.0 - excess / 0.05, 0.0, 1.0);
+}
+
+namespace {
+
+// "image differs from the reference: ...", what failed and by how much.
+std::string image_problem(const ImageScore& img) {
+  char buf[400];
+  if (img.deterministic) {
+    std::snprintf(buf, sizeof buf,
+                  "image differs from the reference: %d of %d pixel channels off by more than round-off (largest "
+                  "difference %.3g); mean radiance %.4g vs %.4g",
+                  img.channels_failed, img.channels_tested, img.max_abs_difference, img.mean_candidate,
+                  img.mean_reference);
+    return buf;
+  }
+  std::string parts = std::to_string(img.channels_failed) + " of " + std::to_string(img.channels_tested) +
+                      " pixel channels beyond " + fmt("|z| = %.2f", img.pixel_threshold);
+  if (img.blocks_tested > 0)
+    parts += ", " + std::to_string(img.blocks_failed) + " of " + std::to_string(img.blocks_tested) +
+             " blocks beyond " + fmt("|z| = %.2f", img.block_threshold);
+  if (img.mean_tested)
+    parts += fmt(", image mean |z| = %.1f", img.max_mean_z()) + fmt(" (limit %.2f)", img.mean_threshold);
+  std::snprintf(buf, sizeof buf, "image differs from the reference: %s; mean radiance %.4g vs %.4g", parts.c_str(),
+                img.mean_candidate, img.mean_reference);
+  return buf;
+}
+
+}  // namespace
+
+Check check_image(const ImageScore& image, double points) {
+  Check k;
+  k.metric = image.summary();
+  k.credit = points;
+  if (!image.passed) {
+    k.problems.push_back(image_problem(image));
+    k.credit = partial_credit(image, points);
+  }
+  return k;
+}
+
+Check check_rate_image(const ImageScore& rate, double points) {
+  Check k;
+  k.metric = "; rate: " + rate.summary();
+  k.credit = points;
+  if (!rate.passed) {
+    k.problems.push_back("sample-rate image differs: " + std::to_string(rate.channels_failed) + " of " +
+                         std::to_string(rate.channels_tested) + " pixels beyond " +
+                         fmt("|z| = %.2f, ", rate.pixel_threshold) + std::to_string(rate.blocks_failed) + " of " +
+                         std::to_string(rate.blocks_tested) + " blocks off, " +
+                         fmt("mean |z| = %.1f; ", rate.max_mean_z()) + fmt("mean rate %.3f vs ", rate.mean_candidate) +
+                         fmt("%.3f", rate.mean_reference));
+    k.credit = partial_credit(rate, points);
+  }
+  return k;
+}
+
+Check check_costs(const Json* stats, const QueryCosts& reference, const CostBounds& bounds, double points,
+                  QueryCosts* measured) {
+  Check k;
+  if (!stats || stats->num("closest_queries", 0) <= 0) {
+    k.problems.push_back("no ray counts (--stats-json stats.json)");
+    return k;
+  }
+  const double closest_queries = stats->num("closest_queries", 0), shadow_queries = stats->num("shadow_queries", 0);
+  const double tests = stats->num("primitive_tests", 0), shadow = stats->num("shadow_primitive_tests", 0);
+  const double closest_tests = (tests - shadow) / closest_queries;
+  const double shadow_tests = shadow_queries > 0 ? shadow / shadow_queries : 0;
+  const double shadow_per_query = shadow_queries / closest_queries;
+  measured->closest_tests = closest_tests;
+  if (shadow_queries > 0) measured->shadow_tests = shadow_tests;
+  measured->shadow_per_query = shadow_per_query;
+
+  const auto limit = [&](double ref) { return bounds.tests_factor * ref + bounds.tests_slack; };
+  if (tests <= 0)
+    k.problems.push_back("no intersection tests counted: every primitive test counts into thread_ray_stats() "
+                         "(see the part 2 contract)");
+  if (reference.closest_tests >= 0 && closest_tests > limit(reference.closest_tests))
+    k.problems.push_back(fmt("%.1f intersection tests per camera or bounce ray, ", closest_tests) +
+                         fmt("more than %.0fx the reference's ", bounds.tests_factor) +
+                         fmt("%.2f: the BVH does not cull", reference.closest_tests));
+  if (reference.shadow_tests >= 0 && shadow_queries > 0 && shadow_tests > limit(reference.shadow_tests))
+    k.problems.push_back(fmt("%.1f intersection tests per shadow ray, ", shadow_tests) +
+                         fmt("more than %.0fx the reference's ", bounds.tests_factor) +
+                         fmt("%.2f: the occlusion query does not cull (boxes beyond the light, or every "
+                             "primitive tested)",
+                             reference.shadow_tests));
+  if (reference.shadow_per_query > 0 && shadow_per_query > bounds.shadow_factor * reference.shadow_per_query)
+    k.problems.push_back(fmt("%.2f shadow rays per closest-hit query, ", shadow_per_query) +
+                         fmt("the reference needs %.2f: a delta light needs one sample, not -l, and a light "
+                             "below the surface none",
+                             reference.shadow_per_query));
+  k.metric = fmt("; tests per query %.2f", closest_tests) + fmt(" (ref %.2f)", reference.closest_tests);
+  if (shadow_queries > 0)
+    k.metric += fmt(", per shadow ray %.2f", shadow_tests) + fmt(" (ref %.2f)", reference.shadow_tests) +
+                fmt("; %.2f shadow rays per query", shadow_per_query) + fmt(" (ref %.2f)", reference.shadow_per_query);
+  k.credit = k.problems.empty() ? points : 0;
+  return k;
+}
+
+Check check_speedup(const RenderOutput& part1, double render_seconds, double tests_per_ray, const CostBounds& bounds,
+                    double points, double* part1_seconds, double* speedup) {
+  Check k;
+  *part1_seconds = part1.ok && part1.has_stats ? part1.stats.num("render_seconds", -1) : -1;
+  if (!part1.ok) {
+    k.problems.push_back("the --part 1 (no BVH) render failed: " + part1.failure);
+    return k;
+  }
+  if (*part1_seconds <= 0 || render_seconds <= 0 || tests_per_ray <= 0) {
+    k.problems.push_back("no render times or test counts (--stats-json stats.json)");
+    return k;
+  }
+  // The verdict rests on the work saved (intersection tests per ray),
+  // which no machine load can change; the time speed-up of a render of a
+  // few milliseconds is shown but is too noisy to fail anyone on.
+  const double work_ratio = stat_ratio(part1.stats, "primitive_tests", "rays") / tests_per_ray;
+  *speedup = *part1_seconds / render_seconds;
+  k.metric = fmt("; BVH speed-up %.0fx", *speedup) + fmt(" (%.0fx fewer tests per ray)", work_ratio);
+  if (work_ratio < bounds.min_speedup) {
+    k.problems.push_back(fmt("the BVH saves too little: %.1fx fewer intersection tests per ray ", work_ratio) +
+                         fmt("than testing every primitive (at least %.0fx expected)", bounds.min_speedup));
+    return k;
+  }
+  k.credit = points;
+  return k;
+}
+
+}  // namespace grader

@@ -6,13 +6,18 @@
 #include <stdexcept>
 #include <vector>
 
+#include "math_constants.h"
+
 namespace pt {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-double rad(double deg) { return deg * kPi / 180.0; }
-double deg(double rad) { return rad * 180.0 / kPi; }
+double rad(double deg) { return deg * kPiDouble / 180.0; }
+double deg(double rad) { return rad * 180.0 / kPiDouble; }
 }  // namespace
+
+double fov_across(double fov_deg, double ratio) {
+  return deg(2 * std::atan(std::tan(rad(fov_deg) / 2) * ratio));
+}
 
 void Camera::look_at(const Vec3d& pos, const Vec3d& at, const Vec3d& up) {
   position = pos;
@@ -146,7 +151,7 @@ Ray thin_lens_ray(const Camera& cam, double x, double y, double u1, double u2) {
   const Vec3d pinhole_dir = normalize(Vec3d(sx, sy, -1));
   // Point on the plane of focus (z = -focal_distance in camera space).
   const Vec3d focus = pinhole_dir * (cam.focal_distance / -pinhole_dir.z);
-  const double r = cam.lens_radius * std::sqrt(u1), phi = 2 * kPi * u2;
+  const double r = cam.lens_radius * std::sqrt(u1), phi = 2 * kPiDouble * u2;
   const Vec3d lens(r * std::cos(phi), r * std::sin(phi), 0);
   const Vec3d d = normalize(cam.to_world(focus - lens));
   return Ray(Vec3(cam.position + cam.to_world(lens)), Vec3(d), float(cam.near_clip), float(cam.far_clip));

@@ -9,6 +9,13 @@
 
 namespace pt {
 
+// The full field of view (degrees) across one side of a frame, from the
+// full field of view across the other side and the ratio of the sides
+// (this side / that side): 2 atan(tan(fov / 2) * ratio). For a frame of
+// aspect ratio w / h, yfov = fov_across(xfov, h / w), xfov =
+// fov_across(yfov, w / h).
+double fov_across(double fov_deg, double ratio);
+
 struct Camera {
   Vec3d position{0, 0, 0};
   Vec3d target{0, 0, -1};

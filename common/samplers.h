@@ -3,11 +3,11 @@
 #pragma once
 #include <cmath>
 
+#include "math_constants.h"
 #include "vec3.h"
 
 namespace pt {
 
-constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInvPi = 1.0f / kPi;
 constexpr float kInv2Pi = 1.0f / (2.0f * kPi);
 

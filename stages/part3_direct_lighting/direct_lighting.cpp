@@ -5,6 +5,7 @@
 #include "bsdf.h"
 #include "frame.h"
 #include "lights.h"
+#include "path_recorder.h"
 #include "todo.h"
 
 namespace pt {
@@ -75,15 +76,19 @@ Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& 
 }
 
 Color one_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
-  return ctx.hemisphere ? estimate_direct_lighting_hemisphere(ctx, r, hit, rng)
-                        : estimate_direct_lighting_importance(ctx, r, hit, rng);
+  record_direct_begin(r, hit);  // the path inspector's hooks (common/path_recorder.h)
+  const Color L = ctx.hemisphere ? estimate_direct_lighting_hemisphere(ctx, r, hit, rng)
+                                 : estimate_direct_lighting_importance(ctx, r, hit, rng);
+  record_direct_end(L);
+  return L;
 }
 
 Color direct_illumination(const ShadingContext& ctx, const Ray& ray, Rng& rng) {
   Ray r = ray;
   Hit hit;
-  if (!ctx.geometry.intersect(r, &hit)) return escaped_radiance(ctx.scene.lights, r.d);
-  return zero_bounce_radiance(ctx, r, hit) + one_bounce_radiance(ctx, r, hit, rng);
+  if (!ctx.geometry.intersect(r, &hit)) return record_zero_bounce(escaped_radiance(ctx.scene.lights, r.d));
+  const Color zero = record_zero_bounce(zero_bounce_radiance(ctx, r, hit));
+  return zero + one_bounce_radiance(ctx, r, hit, rng);
 }
 
 }  // namespace pt

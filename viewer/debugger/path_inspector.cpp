@@ -149,10 +149,14 @@ class Recorder final : public PathRecorder {
     if (!recording_ || in_direct_ || rec_.steps.empty()) return;
     sync();
     PathStep& step = rec_.steps.back();
-    // The last two numbers drawn are the BSDF sample's; any before them
-    // (after the direct estimate) are the Russian-roulette draw.
-    if (pending_.size() >= 2 && same_bits(pending_[pending_.size() - 2], u1) && same_bits(pending_.back(), u2))
-      pending_.resize(pending_.size() - 2);
+    // The last two numbers drawn are the BSDF sample's (in either order: a
+    // call's arguments may be evaluated right to left); any before them,
+    // after the direct estimate, are the Russian-roulette draw.
+    if (pending_.size() >= 2) {
+      const float a = pending_[pending_.size() - 2], b = pending_.back();
+      if ((same_bits(a, u1) && same_bits(b, u2)) || (same_bits(a, u2) && same_bits(b, u1)))
+        pending_.resize(pending_.size() - 2);
+    }
     append_draws(step);
     step.bsdf_sampled = true;
     step.bsdf_u1 = u1;
@@ -410,8 +414,9 @@ PathRecord record_path(const Scene& scene, const Intersector& geometry, const Re
     radiance = [&ctx, &path](const Ray& r, Rng& rng) { return est_radiance_global_illumination(ctx, path, r, rng); };
 
   // The pixel function calls `replay` once per sample, in order. Only the
-  // chosen sample is recorded; the ones before it are traced only where
-  // their values matter (part 5's stopping rule), the others are skipped.
+  // chosen sample is recorded. The others are traced only where their
+  // values matter (part 5's stopping rule, which also gives the number of
+  // samples the pixel takes); elsewhere they are skipped.
   int calls = 0;
   const RadianceFn replay = [&](const Ray& r, Rng& rng) -> Color {
     const int index = calls++;
@@ -421,7 +426,7 @@ PathRecord record_path(const Scene& scene, const Intersector& geometry, const Re
       recorder.finish(L);
       return L;
     }
-    if (opts.part >= 5 && index < sample_index) return radiance(r, rng);
+    if (opts.part >= 5) return radiance(r, rng);
     return Color(0.0f);
   };
 

@@ -7,10 +7,9 @@
 //
 // Deliberate bug (planted in a scratch copy) -> tests here that failed on it:
 //   weight not divided by the continue probability  -> adds up exactly (parts 4, 5)
-//   -o 0 rule not applied to the direct estimates   -> adds up exactly (-o 0)
 //   a draw between events not counted (sync off)    -> Russian-roulette draws
 //   zero bounce not recorded                        -> adds up exactly (every part)
-//   shadow ray paired with the wrong light sample   -> light samples of a point light
+//   shadow ray paired with the wrong light sample   -> several lights, several samples each
 //   replaying the wrong sample (off by one)         -> camera ray; adds up exactly
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -262,6 +261,41 @@ TEST_CASE("light samples of a point light: each has its shadow ray and the lit o
     }
   CHECK(steps > w * h / 4);  // the course view shows the box and some of the void around it
   CHECK(lit > steps / 2);
+}
+
+TEST_CASE("several lights, several samples each: every shadow ray is listed under the light sample it tests",
+          "[debugger][part3]") {
+  const int w = 12, h = 9;
+  const Scene scene = small_scene("CBlights.dae", w, h);
+  RenderOptions o = options(4, w, h, 1, 2, 9);
+  o.light_samples = 3;
+  const auto geometry = debug::make_geometry(scene, o);
+  int traced = 0, skipped = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const debug::PathRecord rec = debug::record_path(scene, *geometry, o, x, y, 0);
+      REQUIRE(rec.ok());
+      for (const debug::PathStep& st : rec.steps) {
+        INFO("pixel (" << x << ", " << y << ") bounce " << st.bounce);
+        CHECK(st.other_shadow_rays.empty());
+        // Two area lights at -l 3 and two point lights at one sample each.
+        CHECK(st.light_samples.size() == 8);
+        for (const debug::LightSampleStep& l : st.light_samples) {
+          const bool can_contribute = l.sample.pdf > 0 && l.cos_theta > 0;
+          CHECK(l.shadow_traced == can_contribute);
+          if (!l.shadow_traced) {
+            ++skipped;
+            continue;
+          }
+          ++traced;
+          CHECK(same_bits(l.shadow_ray.o, st.point));
+          CHECK(same_bits(l.shadow_ray.d, l.sample.wi));
+          CHECK(l.shadow_ray.max_t == l.sample.distance - kRayEpsilon);
+        }
+      }
+    }
+  CHECK(traced > 0);
+  CHECK(skipped > 0);  // points on the lights' backing plates and above them
 }
 
 TEST_CASE("Russian-roulette draws: one per bounce that plays, the one that ends a path is >= 0.7",

@@ -179,6 +179,10 @@ struct PathRecord {
   Color returned{0.0f};        // what the radiance function returned: the sample's value in the render loop
   Color sum_of_contributions{0.0f};  // zero_bounce + (radiance_added of the steps, summed in order)
   bool exact = false;          // sum_of_contributions == returned, bit for bit
+  // Within float rounding (relative 1e-5 per channel): what an estimator
+  // that follows the contracts but groups its sums differently (a
+  // recursive part 4, say) gets. False means it computed something else.
+  bool agrees = false;
   std::vector<std::string> notes;
   std::vector<std::string> todos;
   std::string error;

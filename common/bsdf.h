@@ -3,7 +3,6 @@
 // microfacet materials are shaded as diffuse with their albedo (see
 // docs/differences.md).
 #pragma once
-#include "path_recorder.h"
 #include "samplers.h"
 #include "scene.h"
 
@@ -25,9 +24,7 @@ inline Color bsdf_f(const Material& m, const Vec3& wo, const Vec3& wi) {
 inline Color bsdf_sample_f(const Material& m, const Vec3& wo, float u1, float u2, Vec3* wi, float* pdf) {
   *wi = sample_cosine_hemisphere(u1, u2);
   *pdf = cosine_hemisphere_pdf(*wi);
-  const Color f = bsdf_f(m, wo, *wi);
-  if (PathRecorder* rec = active_path_recorder()) rec->on_bsdf_sample(m, wo, u1, u2, *wi, *pdf, f);
-  return f;
+  return bsdf_f(m, wo, *wi);
 }
 
 inline float bsdf_pdf(const Material& m, const Vec3& wo, const Vec3& wi) {

@@ -4,7 +4,6 @@
 #pragma once
 #include <limits>
 
-#include "path_recorder.h"
 #include "samplers.h"
 #include "scene.h"
 
@@ -25,8 +24,7 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // COLLADA attenuation 1 / (c + l d + q d^2). Directional: radiance along
 // its direction. Ambient: uniform over the upper (+Y) hemisphere.
 // Environment: uniform over the sphere (pdf 1 / (4 pi)).
-namespace detail {
-inline LightSample sample_light_unrecorded(const Light& light, const Vec3& p, float u1, float u2) {
+inline LightSample sample_light(const Light& light, const Vec3& p, float u1, float u2) {
   LightSample s;
   switch (light.type) {
     case LightType::Area: {
@@ -78,14 +76,6 @@ inline LightSample sample_light_unrecorded(const Light& light, const Vec3& p, fl
       return s;
     }
   }
-  return s;
-}
-}  // namespace detail
-
-// The path inspector sees every light sample (see path_recorder.h).
-inline LightSample sample_light(const Light& light, const Vec3& p, float u1, float u2) {
-  const LightSample s = detail::sample_light_unrecorded(light, p, u1, u2);
-  if (PathRecorder* rec = active_path_recorder()) rec->on_light_sample(light, p, u1, u2, s);
   return s;
 }
 

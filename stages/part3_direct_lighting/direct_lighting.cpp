@@ -76,11 +76,13 @@ Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& 
 }
 
 Color one_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
-  record_direct_begin(r, hit);  // the path inspector's hooks (common/path_recorder.h)
-  const Color L = ctx.hemisphere ? estimate_direct_lighting_hemisphere(ctx, r, hit, rng)
-                                 : estimate_direct_lighting_importance(ctx, r, hit, rng);
-  record_direct_end(L);
-  return L;
+  if (recording_path()) {  // the path inspector watches the estimate (common/path_recorder.h)
+    record_direct_begin(r, hit);
+    return record_direct_end(ctx.hemisphere ? estimate_direct_lighting_hemisphere(ctx, r, hit, rng)
+                                            : estimate_direct_lighting_importance(ctx, r, hit, rng));
+  }
+  return ctx.hemisphere ? estimate_direct_lighting_hemisphere(ctx, r, hit, rng)
+                        : estimate_direct_lighting_importance(ctx, r, hit, rng);
 }
 
 Color direct_illumination(const ShadingContext& ctx, const Ray& ray, Rng& rng) {

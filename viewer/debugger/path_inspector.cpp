@@ -3,11 +3,12 @@
 // what happens along its path.
 //
 // How it observes (see README.md): the geometry is wrapped, so every ray
-// query is seen; the given code's hooks (common/path_recorder.h) report the
-// light samples, the BSDF samples, each bounce's direct-light estimate and
-// the zero bounce; the random numbers drawn between two events are found
-// by stepping a copy of the sample's generator until it matches the live
-// one. Nothing here is inside a student's function, so a student's build
+// query is seen; the random numbers drawn between two events are found by
+// stepping a copy of the sample's generator until it matches the live one;
+// the light and BSDF samples are sample_light and bsdf_sample_f evaluated
+// again on those numbers and matched to the shadow and bounce rays; the
+// given code's hooks (common/path_recorder.h) report each bounce's
+// direct-light estimate and the zero bounce. Nothing here is inside a student's function, so a student's build
 // is observed the same way. The path weight and each step's radiance are
 // then computed from what was observed with the parts' contracts; on the
 // reference code their sum is bit for bit what the render loop adds.
@@ -53,7 +54,13 @@ constexpr int kMaxDrawsBetweenEvents = 1 << 16;
 
 class Recorder final : public PathRecorder {
  public:
-  Recorder(const Scene& scene, const RenderOptions& opts, PathRecord& rec) : scene_(scene), opts_(opts), rec_(rec) {}
+  Recorder(const Scene& scene, const RenderOptions& opts, PathRecord& rec) : scene_(scene), opts_(opts), rec_(rec) {
+    // The light samples the estimator takes at a hit, in the contract's
+    // order: -l per area (non-delta) light, one per delta light.
+    for (size_t i = 0; i < scene.lights.size(); ++i)
+      expected_lights_.insert(expected_lights_.end(), scene.lights[i].is_delta() ? 1 : size_t(opts.light_samples),
+                              int(i));
+  }
 
   bool recording() const { return recording_; }
   bool finished() const { return finished_; }
@@ -68,7 +75,19 @@ class Recorder final : public PathRecorder {
 
   void finish(const Color& L) {
     sync();
-    if (!rec_.steps.empty()) append_draws(rec_.steps.back());
+    if (!rec_.steps.empty()) {
+      PathStep& step = rec_.steps.back();
+      // Two numbers at the end may be a BSDF sample that carried nothing
+      // (f = 0, as on an emitter, or pdf = 0): no bounce ray followed.
+      if (pending_.size() >= 2 && !step.bsdf_sampled && step.direct_estimated) {
+        PathStep probe = step;
+        if (match_bsdf_sample(probe, nullptr) && (!(probe.bsdf_pdf > 0) || is_black(probe.bsdf_f))) {
+          step = probe;
+          pending_.resize(pending_.size() - 2);
+        }
+      }
+      append_draws(step);
+    }
     pending_.clear();
     rec_.returned = L;
     recording_ = false;
@@ -92,18 +111,17 @@ class Recorder final : public PathRecorder {
     sync();
     if (in_direct_ && !rec_.steps.empty()) {
       PathStep& step = rec_.steps.back();
-      pending_.clear();  // the probe's direction
-      LightSampleStep* awaiting = awaiting_shadow_ray(step);
-      if (awaiting && !opts_.hemisphere_sampling) {
+      if (!opts_.hemisphere_sampling) {
         // A shadow ray traced as a closest-hit query.
-        set_shadow(*awaiting, ray, hit);
+        on_shadow_ray(step, ray, hit);
         return;
       }
+      pending_.clear();  // the probe's direction
       HemisphereProbe p;
       p.ray = ray;
       p.hit = hit;
       p.probe_hit = h;
-      p.radiance = hit ? material_emission(h.material) : escaped_radiance(scene_.lights, ray.d);
+      p.radiance = hit ? emission(material(h.material)) : escaped_radiance(scene_.lights, ray.d);
       p.cos_theta = dot(step.hit.n, normalize(ray.d));
       step.hemisphere_samples.push_back(p);
       return;
@@ -116,6 +134,14 @@ class Recorder final : public PathRecorder {
     }
     if (rec_.steps.empty()) return;
     PathStep& step = rec_.steps.back();
+    // A bounce ray: the last two numbers drawn are its BSDF sample, any
+    // before them (after the direct estimate) the Russian-roulette draw.
+    if (match_bsdf_sample(step, &ray))
+      pending_.resize(pending_.size() - 2);
+    else
+      rec_.notes.push_back("bounce " + std::to_string(step.bounce + 1) +
+                           ": the ray's direction is not bsdf_sample_f's direction for the two numbers drawn "
+                           "before it (turned to world space with Frame::from_normal of the hit normal)");
     append_draws(step);
     step.next_traced = true;
     step.next_ray = ray;
@@ -127,54 +153,10 @@ class Recorder final : public PathRecorder {
     if (!recording_ || rec_.steps.empty()) return;
     sync();
     PathStep& step = rec_.steps.back();
-    LightSampleStep* awaiting = in_direct_ ? awaiting_shadow_ray(step) : nullptr;
-    if (awaiting)
-      set_shadow(*awaiting, ray, blocked);
+    if (in_direct_ && !opts_.hemisphere_sampling)
+      on_shadow_ray(step, ray, blocked);
     else
       step.other_shadow_rays.push_back(ray);
-  }
-
-  void on_light_sample(const Light& light, const Vec3&, float u1, float u2, const LightSample& s) override {
-    if (!recording_ || rec_.steps.empty()) return;
-    sync();
-    pending_.clear();  // u1 and u2
-    PathStep& step = rec_.steps.back();
-    LightSampleStep ls;
-    const Light* first = scene_.lights.data();
-    if (&light >= first && &light < first + scene_.lights.size()) ls.light = int(&light - first);
-    ls.u1 = u1;
-    ls.u2 = u2;
-    ls.sample = s;
-    const Frame local = Frame::from_normal(step.hit.n);
-    const Vec3 wi_local = local.to_local(s.wi);
-    ls.cos_theta = wi_local.z;
-    ls.bsdf = bsdf_f(material(step.hit.material), local.to_local(-step.ray.d), wi_local);
-    ls.verdict = !(s.pdf > 0) ? "zero pdf" : ls.cos_theta <= 0 ? "below the surface" : "not traced";
-    step.light_samples.push_back(ls);
-  }
-
-  void on_bsdf_sample(const Material&, const Vec3&, float u1, float u2, const Vec3& wi, float pdf,
-                      const Color& f) override {
-    if (!recording_ || in_direct_ || rec_.steps.empty()) return;
-    sync();
-    PathStep& step = rec_.steps.back();
-    // The last two numbers drawn are the BSDF sample's (in either order: a
-    // call's arguments may be evaluated right to left); any before them,
-    // after the direct estimate, are the Russian-roulette draw.
-    if (pending_.size() >= 2) {
-      const float a = pending_[pending_.size() - 2], b = pending_.back();
-      if ((same_bits(a, u1) && same_bits(b, u2)) || (same_bits(a, u2) && same_bits(b, u1)))
-        pending_.resize(pending_.size() - 2);
-    }
-    append_draws(step);
-    step.bsdf_sampled = true;
-    step.bsdf_u1 = u1;
-    step.bsdf_u2 = u2;
-    step.bsdf_wi_local = wi;
-    step.bsdf_wi = Frame::from_normal(step.hit.n).to_world(wi);
-    step.bsdf_f = f;
-    step.bsdf_pdf = pdf;
-    step.bsdf_cos_theta = wi.z;
   }
 
   void on_direct_begin(const Ray&, const Hit&) override {
@@ -184,14 +166,17 @@ class Recorder final : public PathRecorder {
     append_draws(step);
     step.direct_estimated = true;
     step.estimator = opts_.hemisphere_sampling ? "hemisphere sampling" : "light sampling";
+    light_cursor_ = 0;
     in_direct_ = true;
   }
 
   void on_direct_end(const Color& L) override {
     if (!recording_ || rec_.steps.empty()) return;
     sync();
-    pending_.clear();  // the estimator's own numbers (light points, hemisphere directions)
-    rec_.steps.back().direct = L;
+    PathStep& step = rec_.steps.back();
+    if (!opts_.hemisphere_sampling) untraced_light_samples(step, pending_.size());
+    pending_.clear();
+    step.direct = L;
     in_direct_ = false;
   }
 
@@ -204,6 +189,8 @@ class Recorder final : public PathRecorder {
   }
 
  private:
+  static bool is_black(const Color& c) { return c.x == 0 && c.y == 0 && c.z == 0; }
+
   // Steps the mirror generator to the live one, keeping the numbers drawn.
   void sync() {
     if (!live_) return;
@@ -224,10 +211,106 @@ class Recorder final : public PathRecorder {
     pending_.clear();
   }
 
-  LightSampleStep* awaiting_shadow_ray(PathStep& step) {
-    if (step.light_samples.empty()) return nullptr;
-    LightSampleStep& last = step.light_samples.back();
-    return last.shadow_traced ? nullptr : &last;
+  // The two numbers drawn last, in the order a call received them: a
+  // call's arguments may be evaluated right to left, and which order a
+  // call site uses is learnt from the first sample matched.
+  bool last_two(bool reversed, float* u1, float* u2) const {
+    if (pending_.size() < 2) return false;
+    const float a = pending_[pending_.size() - 2], b = pending_.back();
+    *u1 = reversed ? b : a;
+    *u2 = reversed ? a : b;
+    return true;
+  }
+  static std::vector<bool> orders(int known) {
+    if (known == 0) return {false};
+    if (known == 1) return {true};
+    return {false, true};
+  }
+
+  // Re-evaluates bsdf_sample_f on the last two numbers drawn; with `ray`,
+  // only a sample whose world direction is the ray's counts.
+  bool match_bsdf_sample(PathStep& step, const Ray* ray) {
+    const Frame frame = Frame::from_normal(step.hit.n);
+    const Vec3 wo = frame.to_local(-step.ray.d);
+    for (bool reversed : orders(bsdf_order_)) {
+      float u1, u2;
+      if (!last_two(reversed, &u1, &u2)) return false;
+      Vec3 wi;
+      float pdf = 0;
+      const Color f = bsdf_sample_f(material(step.hit.material), wo, u1, u2, &wi, &pdf);
+      const Vec3 world = frame.to_world(wi);
+      if (ray && !same_bits(world, ray->d)) continue;
+      if (ray) bsdf_order_ = reversed ? 1 : 0;
+      step.bsdf_sampled = true;
+      step.bsdf_u1 = u1;
+      step.bsdf_u2 = u2;
+      step.bsdf_wi_local = wi;
+      step.bsdf_wi = world;
+      step.bsdf_f = f;
+      step.bsdf_pdf = pdf;
+      step.bsdf_cos_theta = wi.z;
+      return true;
+    }
+    return false;
+  }
+
+  LightSampleStep light_sample(const PathStep& step, int light, const Vec3& p, float u1, float u2) const {
+    LightSampleStep ls;
+    ls.light = light;
+    ls.u1 = u1;
+    ls.u2 = u2;
+    ls.sample = sample_light(scene_.lights[size_t(light)], p, u1, u2);
+    const Frame local = Frame::from_normal(step.hit.n);
+    const Vec3 wi_local = local.to_local(ls.sample.wi);
+    ls.cos_theta = wi_local.z;
+    ls.bsdf = bsdf_f(material(step.hit.material), local.to_local(-step.ray.d), wi_local);
+    ls.verdict = !(ls.sample.pdf > 0) ? "zero pdf" : ls.cos_theta <= 0 ? "below the surface" : "not traced";
+    return ls;
+  }
+
+  // Pairs of numbers drawn in the estimate without a shadow ray after them
+  // (the first `count` pending numbers): samples skipped below the surface
+  // or with zero pdf, taken to be the contract's next lights.
+  void untraced_light_samples(PathStep& step, size_t count) {
+    const bool reversed = light_order_ == 1;
+    for (size_t i = 0; i + 1 < count; i += 2) {
+      if (light_cursor_ >= expected_lights_.size()) break;
+      const float a = pending_[i], b = pending_[i + 1];
+      step.light_samples.push_back(
+          light_sample(step, expected_lights_[light_cursor_++], step.point, reversed ? b : a, reversed ? a : b));
+    }
+  }
+
+  // A shadow ray of the light-sampling estimate: find the light sample
+  // (light, numbers) whose direction it follows.
+  void on_shadow_ray(PathStep& step, const Ray& ray, bool blocked) {
+    size_t before = pending_.size() >= 2 ? pending_.size() - 2 : pending_.size();
+    for (bool reversed : orders(light_order_)) {
+      float u1, u2;
+      if (!last_two(reversed, &u1, &u2)) break;
+      // The contract's next light first, then every other light.
+      std::vector<int> candidates;
+      for (size_t k = light_cursor_; k < expected_lights_.size(); ++k) candidates.push_back(expected_lights_[k]);
+      for (size_t i = 0; i < scene_.lights.size(); ++i) candidates.push_back(int(i));
+      for (int light : candidates) {
+        LightSampleStep ls = light_sample(step, light, ray.o, u1, u2);
+        if (!same_bits(ls.sample.wi, ray.d)) continue;
+        // A delta light ignores its numbers: only other lights tell the order.
+        if (!scene_.lights[size_t(light)].is_delta()) light_order_ = reversed ? 1 : 0;
+        untraced_light_samples(step, before);
+        // Follow the contract's order from this light on.
+        for (size_t k = light_cursor_; k < expected_lights_.size(); ++k)
+          if (expected_lights_[k] == light) {
+            light_cursor_ = k + 1;
+            break;
+          }
+        set_shadow(ls, ray, blocked);
+        step.light_samples.push_back(ls);
+        pending_.clear();
+        return;
+      }
+    }
+    step.other_shadow_rays.push_back(ray);
   }
 
   static void set_shadow(LightSampleStep& ls, const Ray& ray, bool blocked) {
@@ -243,7 +326,6 @@ class Recorder final : public PathRecorder {
     static const Material fallback;
     return index >= 0 && size_t(index) < scene_.materials.size() ? scene_.materials[size_t(index)] : fallback;
   }
-  Color material_emission(int index) const { return emission(material(index)); }
 
   void push_step(const Ray& ray, const Hit& h, int bounce) {
     PathStep s;
@@ -264,6 +346,12 @@ class Recorder final : public PathRecorder {
   const Rng* live_ = nullptr;
   Rng mirror_;
   std::vector<float> pending_;  // numbers drawn since the last event
+  std::vector<int> expected_lights_;
+  size_t light_cursor_ = 0;
+  // The order in which this build's calls of sample_light and of
+  // bsdf_sample_f received their two numbers: -1 not known yet, 0 left to
+  // right, 1 right to left.
+  int light_order_ = -1, bsdf_order_ = -1;
   std::set<std::string> todos_seen_;
 };
 

@@ -12,6 +12,7 @@
 // is observed the same way. The path weight and each step's radiance are
 // then computed from what was observed with the parts' contracts; on the
 // reference code their sum is bit for bit what the render loop adds.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <set>
@@ -284,31 +285,34 @@ class Recorder final : public PathRecorder {
   // A shadow ray of the light-sampling estimate: find the light sample
   // (light, numbers) whose direction it follows.
   void on_shadow_ray(PathStep& step, const Ray& ray, bool blocked) {
-    size_t before = pending_.size() >= 2 ? pending_.size() - 2 : pending_.size();
+    const size_t before = pending_.size() >= 2 ? pending_.size() - 2 : pending_.size();
+    // The contract's next light first, then every light; sampled from the
+    // ray's origin, or from the hit point when the code moved the shadow
+    // ray's origin off the surface.
+    std::vector<int> candidates(expected_lights_.begin() + long(std::min(light_cursor_, expected_lights_.size())),
+                                expected_lights_.end());
+    for (size_t i = 0; i < scene_.lights.size(); ++i) candidates.push_back(int(i));
     for (bool reversed : orders(light_order_)) {
       float u1, u2;
       if (!last_two(reversed, &u1, &u2)) break;
-      // The contract's next light first, then every other light.
-      std::vector<int> candidates;
-      for (size_t k = light_cursor_; k < expected_lights_.size(); ++k) candidates.push_back(expected_lights_[k]);
-      for (size_t i = 0; i < scene_.lights.size(); ++i) candidates.push_back(int(i));
-      for (int light : candidates) {
-        LightSampleStep ls = light_sample(step, light, ray.o, u1, u2);
-        if (!same_bits(ls.sample.wi, ray.d)) continue;
-        // A delta light ignores its numbers: only other lights tell the order.
-        if (!scene_.lights[size_t(light)].is_delta()) light_order_ = reversed ? 1 : 0;
-        untraced_light_samples(step, before);
-        // Follow the contract's order from this light on.
-        for (size_t k = light_cursor_; k < expected_lights_.size(); ++k)
-          if (expected_lights_[k] == light) {
-            light_cursor_ = k + 1;
-            break;
-          }
-        set_shadow(ls, ray, blocked);
-        step.light_samples.push_back(ls);
-        pending_.clear();
-        return;
-      }
+      for (int light : candidates)
+        for (const Vec3& p : {ray.o, step.point}) {
+          LightSampleStep ls = light_sample(step, light, p, u1, u2);
+          if (!same_bits(ls.sample.wi, ray.d)) continue;
+          // A delta light ignores its numbers: only other lights tell the order.
+          if (!scene_.lights[size_t(light)].is_delta()) light_order_ = reversed ? 1 : 0;
+          untraced_light_samples(step, before);
+          // Follow the contract's order from this light on.
+          for (size_t k = light_cursor_; k < expected_lights_.size(); ++k)
+            if (expected_lights_[k] == light) {
+              light_cursor_ = k + 1;
+              break;
+            }
+          set_shadow(ls, ray, blocked);
+          step.light_samples.push_back(ls);
+          pending_.clear();
+          return;
+        }
     }
     step.other_shadow_rays.push_back(ray);
   }

@@ -101,9 +101,12 @@ LightSamplesResult sample_light_many(const Scene& scene, int light_index, const 
 // ------------------------------------------------------------------
 // Path inspector
 
-// One light sample taken by the direct-light estimate at a step.
+// One light sample taken by the direct-light estimate at a step: found by
+// evaluating sample_light again on the numbers the estimate drew, matched
+// to the shadow ray that followed them (or, for a sample without one, the
+// contract's next light).
 struct LightSampleStep {
-  int light = -1;              // index in scene.lights (-1: not one of the scene's lights)
+  int light = -1;              // index in scene.lights
   float u1 = 0, u2 = 0;
   LightSample sample;          // direction, distance, pdf, radiance
   float cos_theta = 0;         // dot(hit normal, wi)
@@ -199,7 +202,8 @@ std::unique_ptr<Intersector> make_geometry(const Scene& scene, const RenderOptio
 // function and random numbers) and records its path. `scene.camera` must be
 // configured for opts (configure_camera). Part 5 replays the pixel's
 // adaptive sampling up to the sample; a sample it did not take is an
-// InputError.
+// InputError. Safe to call from several threads at once (the recorder is
+// per call and per thread; `geometry` is only queried).
 PathRecord record_path(const Scene& scene, const Intersector& geometry, const RenderOptions& opts, int x, int y,
                        int sample_index);
 

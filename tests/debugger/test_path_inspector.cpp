@@ -12,6 +12,7 @@
 //   shadow ray paired with the wrong light sample   -> several lights, several samples each
 //   replaying the wrong sample (off by one)         -> camera ray; adds up exactly
 #include <catch2/catch.hpp>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -125,7 +126,145 @@ Coverage check_adds_up(const Scene& scene, const RenderOptions& o, const std::st
   return c;
 }
 
+// Geometry standing in for a student's that throws.
+class ThrowingGeometry final : public Intersector {
+ public:
+  bool intersect(Ray&, Hit*) const override { throw std::runtime_error("node index out of range"); }
+  bool occluded(const Ray&) const override { return false; }
+};
+
+// A strict JSON reader that only says whether `text` is one valid JSON
+// value (RFC 8259), so that the page can parse what the server sends.
+class JsonCheck {
+ public:
+  explicit JsonCheck(const std::string& text) : s_(text) {}
+  bool valid() {
+    ws();
+    if (!value()) return false;
+    ws();
+    return i_ == s_.size();
+  }
+
+ private:
+  bool value() {
+    if (i_ >= s_.size()) return false;
+    const char c = s_[i_];
+    if (c == '{') return object();
+    if (c == '[') return array();
+    if (c == '"') return string();
+    if (c == '-' || (c >= '0' && c <= '9')) return number();
+    return literal("true") || literal("false") || literal("null");
+  }
+  bool object() {
+    ++i_;
+    ws();
+    if (eat('}')) return true;
+    do {
+      ws();
+      if (!string()) return false;
+      ws();
+      if (!eat(':')) return false;
+      ws();
+      if (!value()) return false;
+      ws();
+    } while (eat(','));
+    return eat('}');
+  }
+  bool array() {
+    ++i_;
+    ws();
+    if (eat(']')) return true;
+    do {
+      ws();
+      if (!value()) return false;
+      ws();
+    } while (eat(','));
+    return eat(']');
+  }
+  bool string() {
+    if (!eat('"')) return false;
+    while (i_ < s_.size() && s_[i_] != '"') {
+      if (static_cast<unsigned char>(s_[i_]) < 0x20) return false;
+      if (s_[i_] == '\\') {
+        ++i_;
+        if (i_ >= s_.size() || std::string("\"\\/bfnrtu").find(s_[i_]) == std::string::npos) return false;
+        if (s_[i_] == 'u') {
+          for (int k = 0; k < 4; ++k)
+            if (++i_ >= s_.size() || !std::isxdigit(static_cast<unsigned char>(s_[i_]))) return false;
+        }
+      }
+      ++i_;
+    }
+    return eat('"');
+  }
+  bool number() {
+    eat('-');
+    if (eat('0')) {
+    } else if (!digits()) {
+      return false;
+    }
+    if (eat('.') && !digits()) return false;
+    if (eat('e') || eat('E')) {
+      if (!eat('+')) eat('-');
+      if (!digits()) return false;
+    }
+    return true;
+  }
+  bool digits() {
+    const size_t start = i_;
+    while (i_ < s_.size() && s_[i_] >= '0' && s_[i_] <= '9') ++i_;
+    return i_ > start;
+  }
+  bool literal(const char* word) {
+    const std::string w(word);
+    if (s_.compare(i_, w.size(), w) != 0) return false;
+    i_ += w.size();
+    return true;
+  }
+  bool eat(char c) {
+    if (i_ < s_.size() && s_[i_] == c) {
+      ++i_;
+      return true;
+    }
+    return false;
+  }
+  void ws() {
+    while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\n' || s_[i_] == '\t' || s_[i_] == '\r')) ++i_;
+  }
+  const std::string& s_;
+  size_t i_ = 0;
+};
+
 }  // namespace
+
+TEST_CASE("JSON of path records is valid, for every kind of record", "[debugger]") {
+  CHECK(JsonCheck("{\"a\": [1, -2.5e-3, \"x\\n\", true, null, {}]}").valid());
+  CHECK_FALSE(JsonCheck("{\"a\": nan}").valid());
+  CHECK_FALSE(JsonCheck("{\"a\": [1, 2,]}").valid());
+  CHECK_FALSE(JsonCheck("{\"a\": 1} x").valid());
+  const int w = 12, h = 9;
+  const Scene scene = small_scene("CBlights.dae", w, h);
+  int records = 0;
+  for (int part = 1; part <= 5; ++part)
+    for (bool hemisphere : {false, true}) {
+      RenderOptions o = options(part, w, h, 2, 5, 81);
+      o.hemisphere_sampling = hemisphere;
+      const auto geometry = debug::make_geometry(scene, o);
+      for (int y = 0; y < h; y += 2)
+        for (int x = 0; x < w; x += 2) {
+          const debug::PathRecord rec = debug::record_path(scene, *geometry, o, x, y, 1);
+          const std::string json = rec.to_json();
+          INFO("part " << part << " pixel (" << x << ", " << y << "): " << json);
+          CHECK(JsonCheck(json).valid());
+          ++records;
+        }
+    }
+  CHECK(records == 5 * 2 * 30);
+  // Records with an error and with TODO lines.
+  const RenderOptions o = options(4, w, h, 1, 3, 71);
+  const ThrowingGeometry throwing;
+  CHECK(JsonCheck(debug::record_path(scene, throwing, o, 2, 2, 0).to_json()).valid());
+}
 
 TEST_CASE("part 3: the recorded steps add up exactly to the render loop's sample, light and hemisphere sampling",
           "[debugger][part3]") {
@@ -381,12 +520,7 @@ TEST_CASE("a sample that adaptive sampling did not take is an input error", "[de
 
 namespace {
 
-// Geometry standing in for a student's: throws, or reaches a TODO stub.
-class ThrowingGeometry final : public Intersector {
- public:
-  bool intersect(Ray&, Hit*) const override { throw std::runtime_error("node index out of range"); }
-  bool occluded(const Ray&) const override { return false; }
-};
+// Geometry standing in for a student's that reaches a TODO stub.
 
 class StubbedGeometry final : public Intersector {
  public:

@@ -11,6 +11,7 @@
 //   zero bounce not recorded                        -> adds up exactly (every part)
 //   shadow ray paired with the wrong light sample   -> several lights, several samples each
 //   replaying the wrong sample (off by one)         -> camera ray; adds up exactly
+//   an infinite max_t written as a bare inf         -> JSON of path records is valid
 #include <catch2/catch.hpp>
 #include <cctype>
 #include <cmath>

@@ -44,6 +44,11 @@ class Rng {
     return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
   }
 
+  // Same state: the same numbers from here on (the path inspector counts
+  // the draws between two events this way).
+  bool operator==(const Rng& o) const { return state_ == o.state_ && inc_ == o.inc_; }
+  bool operator!=(const Rng& o) const { return !(*this == o); }
+
   // Uniform in [0, 1): 24 random mantissa bits, never returns 1.
   float uniform() { return float(next_u32() >> 8) * (1.0f / 16777216.0f); }
 

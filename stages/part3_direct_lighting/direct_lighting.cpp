@@ -5,6 +5,7 @@
 #include "bsdf.h"
 #include "frame.h"
 #include "lights.h"
+#include "path_recorder.h"
 #include "todo.h"
 
 namespace pt {
@@ -75,6 +76,11 @@ Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& 
 }
 
 Color one_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
+  if (recording_path()) {  // the path inspector watches the estimate (common/path_recorder.h)
+    record_direct_begin(r, hit);
+    return record_direct_end(ctx.hemisphere ? estimate_direct_lighting_hemisphere(ctx, r, hit, rng)
+                                            : estimate_direct_lighting_importance(ctx, r, hit, rng));
+  }
   return ctx.hemisphere ? estimate_direct_lighting_hemisphere(ctx, r, hit, rng)
                         : estimate_direct_lighting_importance(ctx, r, hit, rng);
 }
@@ -82,8 +88,9 @@ Color one_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hi
 Color direct_illumination(const ShadingContext& ctx, const Ray& ray, Rng& rng) {
   Ray r = ray;
   Hit hit;
-  if (!ctx.geometry.intersect(r, &hit)) return escaped_radiance(ctx.scene.lights, r.d);
-  return zero_bounce_radiance(ctx, r, hit) + one_bounce_radiance(ctx, r, hit, rng);
+  if (!ctx.geometry.intersect(r, &hit)) return record_zero_bounce(escaped_radiance(ctx.scene.lights, r.d));
+  const Color zero = record_zero_bounce(zero_bounce_radiance(ctx, r, hit));
+  return zero + one_bounce_radiance(ctx, r, hit, rng);
 }
 
 }  // namespace pt

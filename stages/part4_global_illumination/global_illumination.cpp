@@ -3,6 +3,7 @@
 #include "bsdf.h"
 #include "frame.h"
 #include "lights.h"
+#include "path_recorder.h"
 #include "todo.h"
 
 namespace pt {
@@ -56,8 +57,11 @@ Color est_radiance_global_illumination(const ShadingContext& ctx, const PathOpti
   r.depth = opts.max_depth;
   const bool count_zero = (opts.accumulate || opts.max_depth == 0) && !opts.skip_direct;
   Hit hit;
-  if (!ctx.geometry.intersect(r, &hit)) return count_zero ? escaped_radiance(ctx.scene.lights, r.d) : Color(0.0f);
-  Color L = count_zero ? zero_bounce_radiance(ctx, r, hit) : Color(0.0f);
+  // record_zero_bounce passes its value through to the path inspector
+  // (common/path_recorder.h).
+  if (!ctx.geometry.intersect(r, &hit))
+    return record_zero_bounce(count_zero ? escaped_radiance(ctx.scene.lights, r.d) : Color(0.0f));
+  Color L = record_zero_bounce(count_zero ? zero_bounce_radiance(ctx, r, hit) : Color(0.0f));
   if (opts.max_depth > 0) L += at_least_one_bounce_radiance(ctx, opts, r, hit, rng);
   return L;
 }

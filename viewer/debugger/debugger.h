@@ -1,0 +1,210 @@
+// The debugger's core: an intersection tester, a light-sample tester and a
+// path inspector that replays one sample of one pixel exactly and lists
+// every step of its path. The viewer's server calls these functions (in a
+// worker process) and sends each result's to_json() to the page.
+//
+// Errors: absurd input (a zero or NaN direction, a negative radius,
+// min_t > max_t, a pixel or sample index out of range, ...) throws
+// InputError with a one-line message. The build's own code failing (a C++
+// exception from a student's function) is not thrown: the result's `error`
+// names the function, and `todos` lists the unfinished functions (the
+// starter kit's TODO stubs) that were reached.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "intersector.h"
+#include "lights.h"
+#include "options.h"
+#include "scene.h"
+
+namespace pt::debug {
+
+// Thrown for input no function should be called with.
+class InputError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+// ------------------------------------------------------------------
+// Intersection tester
+
+// A ray as typed in the page. The direction is used as given (not
+// normalised), so t is measured in units of its length.
+struct RayInput {
+  Vec3 origin;
+  Vec3 direction;
+  float min_t = 0.0f;
+  float max_t = kInfinity;
+};
+
+struct IntersectionResult {
+  std::string function;        // "intersect_triangle" or "intersect_sphere"
+  Ray ray;                     // the ray passed in
+  bool hit = false;
+  float t = 0;                 // on a hit
+  Vec3 point;                  // ray.at(t), on a hit
+  Vec3 normal;                 // the normal the function reported, on a hit
+  int material = -1;           // the material it reported, on a hit
+  float max_t_after = 0;       // r.max_t after the call (the contract: t on a hit, unchanged on a miss)
+  std::vector<std::string> todos;  // TODO stubs reached ("Part 1: intersect_triangle (...)")
+  std::string error;           // the function threw: "intersect_triangle: <what>"
+  bool ok() const { return error.empty(); }
+  std::string to_json() const;
+};
+
+// Calls the build's intersect_triangle / intersect_sphere (part 1) on the ray.
+IntersectionResult test_ray_triangle(const Triangle& tri, const RayInput& ray);
+IntersectionResult test_ray_sphere(const Sphere& sphere, const RayInput& ray);
+// A primitive picked in the scene, numbered as Hit::primitive: triangles
+// first, then spheres (num_triangles + sphere index).
+IntersectionResult test_ray_primitive(const Scene& scene, int primitive, const RayInput& ray);
+
+// ------------------------------------------------------------------
+// Light-sample tester
+
+struct LightSampleTest {
+  float u1 = 0, u2 = 0;        // the uniform numbers passed to sample_light
+  LightSample sample;          // what sample_light returned
+  float cos_theta = 0;         // dot(normal, wi)
+  bool shadow_tested = false;  // a shadow ray was traced (geometry given, pdf > 0, cos_theta > 0)
+  Ray shadow_ray;              // from the point, min_t = kRayEpsilon, max_t = distance - kRayEpsilon
+  bool blocked = false;
+  std::string to_json() const;
+};
+
+struct LightSamplesResult {
+  int light = -1;
+  std::string light_type;      // "area", "point", ...
+  Vec3 point, normal;          // normal as given, normalised
+  uint64_t seed = 0;
+  std::vector<LightSampleTest> samples;
+  std::vector<std::string> todos;
+  std::string error;
+  bool ok() const { return error.empty(); }
+  std::string to_json() const;
+};
+
+// The most samples one call takes.
+constexpr int kMaxLightSamples = 1 << 20;
+
+// `n` samples of scene.lights[light_index] seen from `point` (with surface
+// normal `normal`, for cos theta), with the uniform numbers of Rng(seed).
+// With `geometry`, each sample that can contribute also gets its shadow ray
+// traced as the light-sampling estimator traces it.
+LightSamplesResult sample_light_many(const Scene& scene, int light_index, const Vec3& point, const Vec3& normal,
+                                     int n, uint64_t seed, const Intersector* geometry = nullptr);
+
+// ------------------------------------------------------------------
+// Path inspector
+
+// One light sample taken by the direct-light estimate at a step: found by
+// evaluating sample_light again on the numbers the estimate drew, matched
+// to the shadow ray that followed them (or, for a sample without one, the
+// contract's next light).
+struct LightSampleStep {
+  int light = -1;              // index in scene.lights
+  float u1 = 0, u2 = 0;
+  LightSample sample;          // direction, distance, pdf, radiance
+  float cos_theta = 0;         // dot(hit normal, wi)
+  Color bsdf{0.0f};            // f(wo, wi) of the hit's material
+  bool shadow_traced = false;
+  Ray shadow_ray;
+  bool blocked = false;
+  std::string verdict;         // "lit", "blocked", "below the surface", "zero pdf", "not traced"
+  Color contribution{0.0f};    // f L cos / pdf when lit (before the estimator's averaging)
+  std::string to_json() const;
+};
+
+// One direction of the hemisphere estimate (-H) at a step.
+struct HemisphereProbe {
+  Ray ray;
+  bool hit = false;
+  Hit probe_hit;
+  Color radiance{0.0f};        // emission of what it hit, or the sky it escaped to
+  float cos_theta = 0;
+  std::string to_json() const;
+};
+
+// One hit of the path and what the estimator did there.
+struct PathStep {
+  int bounce = 0;              // 1: where the camera ray hits; 2: the first bounce ray's hit; ...
+  int depth = 0;               // bounces left by the contract (-m at the camera ray's hit), parts 4-5
+  Ray ray;                     // the ray that found this hit, as traced
+  Hit hit;
+  Vec3 point;
+  std::string material;        // the material's name and type, e.g. "red (diffuse)"
+  Color emission{0.0f};
+
+  bool direct_estimated = false;
+  std::string estimator;       // "light sampling" or "hemisphere sampling"
+  Color direct{0.0f};          // what one_bounce_radiance returned
+  bool direct_counted = false; // added to the path by the contract (-o, --indirect-only)
+  std::vector<LightSampleStep> light_samples;
+  std::vector<HemisphereProbe> hemisphere_samples;
+  std::vector<Ray> other_shadow_rays;  // occlusion queries not following a light sample
+
+  Color path_weight{1.0f};     // product of f cos / pdf (and 1 / survival) of the bounces before
+  Color radiance_added{0.0f};  // path_weight * direct when counted
+
+  std::vector<float> roulette_draws;  // numbers drawn after the direct estimate and before the BSDF sample
+  bool roulette_applies = false;      // the contract plays Russian roulette here
+  float continue_probability = 1.0f;
+
+  bool bsdf_sampled = false;
+  float bsdf_u1 = 0, bsdf_u2 = 0;
+  Vec3 bsdf_wi_local, bsdf_wi;
+  Color bsdf_f{0.0f};
+  float bsdf_pdf = 0, bsdf_cos_theta = 0;
+
+  bool next_traced = false;    // a bounce ray left this hit
+  Ray next_ray;
+  bool next_hit = false;
+  std::string to_json() const;
+};
+
+struct PathRecord {
+  int part = 0;
+  int x = 0, y = 0, sample = 0;
+  uint64_t seed = 0;
+  int samples_per_pixel = 0;
+  int samples_taken = 0;       // by the pixel function (part 5: adaptive)
+
+  Ray camera_ray;
+  bool camera_hit = false;
+  Color zero_bounce{0.0f};     // the emission (or sky) the camera ray sees, as added
+  std::vector<PathStep> steps;
+  std::string end;             // why the path ended
+
+  Color returned{0.0f};        // what the radiance function returned: the sample's value in the render loop
+  Color sum_of_contributions{0.0f};  // zero_bounce + (radiance_added of the steps, summed in order)
+  bool exact = false;          // sum_of_contributions == returned, bit for bit
+  // Within float rounding (relative 1e-5 per channel): what an estimator
+  // that follows the contracts but groups its sums differently (a
+  // recursive part 4, say) gets. False means it computed something else.
+  bool agrees = false;
+  std::vector<std::string> notes;
+  std::vector<std::string> todos;
+  std::string error;
+  bool ok() const { return error.empty(); }
+  std::string to_json() const;
+};
+
+// The closest-hit structure the command line uses for opts.part: every
+// primitive tested (part 1) or the BVH (parts 2-5).
+std::unique_ptr<Intersector> make_geometry(const Scene& scene, const RenderOptions& opts);
+
+// Replays sample `sample_index` of pixel (x, y) ((0, 0) bottom-left) as the
+// render of `opts` computes it (the part's pixel function, radiance
+// function and random numbers) and records its path. `scene.camera` must be
+// configured for opts (configure_camera). Part 5 replays the pixel's
+// adaptive sampling up to the sample; a sample it did not take is an
+// InputError. Safe to call from several threads at once (the recorder is
+// per call and per thread; `geometry` is only queried).
+PathRecord record_path(const Scene& scene, const Intersector& geometry, const RenderOptions& opts, int x, int y,
+                       int sample_index);
+
+}  // namespace pt::debug

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "json_text.h"
+#include "json.h"
 
 namespace pt::debug {
 

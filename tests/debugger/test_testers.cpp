@@ -21,7 +21,7 @@
 #include "direct_lighting.h"
 #include "json_writer.h"
 #include "sphere.h"
-#include "statistics.h"
+#include "statistics/analytic_scenes.h"
 #include "support.h"
 #include "triangle.h"
 

@@ -3,13 +3,10 @@
 #pragma once
 #include <cmath>
 
+#include "math_constants.h"
 #include "vec3.h"
 
 namespace pt {
-
-constexpr float kPi = 3.14159265358979323846f;
-constexpr float kInvPi = 1.0f / kPi;
-constexpr float kInv2Pi = 1.0f / (2.0f * kPi);
 
 // Uniform over the hemisphere z >= 0; pdf 1 / (2 pi) per steradian.
 inline Vec3 sample_uniform_hemisphere(float u1, float u2) {

@@ -12,7 +12,8 @@ checkout) to DEST, replacing each region
     ... reference solution ...
     // END SOLUTION
 
-by its STUB lines, uncommented and indented like the marker.
+by its STUB lines, uncommented and indented like the marker (a region
+without STUB lines between two blank lines leaves one blank line).
 
 Left out of the kit:
   - the instructors' folder, instructors/ (this generator, its overlay and
@@ -51,7 +52,9 @@ stderr naming the file and line, exit status 1, DEST left untouched):
     occur outside solution regions of the reference or in stubs, and short
     lines such as "}", "return L;" or "return false;", are not evidence;
   - links: every relative link of the kit's Markdown files points to a file
-    or folder of the kit.
+    or folder of the kit;
+  - TODO lines: a PT_TODO(N) or PT_TODO_AS(N, ...) in stages/partK_*/ has
+    N = K (the grader reads the part from the line a stub prints).
 Exit status: 0 written and checked, 1 error.
 """
 import os
@@ -83,6 +86,8 @@ WHOLE_FILE = "whole file"
 MIN_LEAK_LENGTH = 12
 MIN_LEAK_WORDS = 3
 SOURCE_EXTENSIONS = (".h", ".hpp", ".cpp", ".cc")
+TODO_CALL = re.compile(r"\bPT_TODO(?:_AS)?\s*\(\s*(\d+)")
+PART_FOLDER = re.compile(r"^stages/part(\d+)_")
 
 
 class KitError(Exception):
@@ -97,7 +102,14 @@ def strip_regions(path, lines):
     are (BEGIN line, END line) pairs, 1-based and inclusive."""
     out, solution, regions = [], [], []
     inside, indent, begin_line, stubs = False, "", 0, []
+    # A region without stubs between two blank lines would leave two blank
+    # lines in a row: the second goes.
+    drop_blank = False
     for number, line in enumerate(lines, 1):
+        if drop_blank:
+            drop_blank = False
+            if not line.strip():
+                continue
         m = BEGIN.match(line)
         if m:
             if inside:
@@ -110,6 +122,7 @@ def strip_regions(path, lines):
             out.extend(indent + s + "\n" for s in stubs)
             regions.append((begin_line, number))
             inside = False
+            drop_blank = not stubs and bool(out) and not out[-1].strip()
             continue
         if inside:
             s = STUB.match(line)
@@ -678,6 +691,18 @@ def check_links(kit):
                     raise KitError(f"{rel}:{number}: link to {target}, which the kit does not contain")
 
 
+def check_todo_parts(rel, lines):
+    """A stub's PT_TODO names the part of the folder it is in."""
+    folder = PART_FOLDER.match(rel)
+    if not folder:
+        return
+    for number, line in enumerate(lines, 1):
+        for m in TODO_CALL.finditer(line):
+            if m.group(1) != folder.group(1):
+                raise KitError(f"{rel}:{number}: PT_TODO names part {m.group(1)} in a part {folder.group(1)} folder "
+                               f"(the grader reads the part from the TODO line)")
+
+
 def check_leaks(kit, solution_lines, outside_lines):
     evidence = {l for l in solution_lines - outside_lines
                 if len(l) >= MIN_LEAK_LENGTH and len(re.findall(r"\w+", l)) >= MIN_LEAK_WORDS}
@@ -743,6 +768,7 @@ def make_kit(root):
             solution_lines.update(l.strip() for l in lines)
             continue
         if is_source(rel):
+            check_todo_parts(rel, lines)
             out, solution, regions = strip_regions(rel, lines)
             if regions:
                 out = mark_empty_helper_namespaces(out)

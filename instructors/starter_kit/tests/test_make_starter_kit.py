@@ -51,7 +51,7 @@ def student_cpp(name="solve", header="work.h"):
         int {name}(int x) {{
           const int scale = 2;
           // BEGIN SOLUTION
-          // STUB: todo_once("Part 1: {name} (stages/part1_demo/work.cpp)");
+          // STUB: PT_TODO(1);
           // STUB: return 0;
           const int doubled_and_offset_value = x * scale + 1;
           return doubled_and_offset_value;
@@ -250,7 +250,7 @@ def check_listed_given_code_and_student_functions_pass(tmp):
         int solve(int x) {
           Item item{x};
           // BEGIN SOLUTION
-          // STUB: todo_once("Part 1: solve (stages/part1_demo/work.cpp)");
+          // STUB: PT_TODO(1);
           // STUB: return item.value;
           return SolutionBuilder{}.build(item.twice());
           // END SOLUTION
@@ -269,7 +269,7 @@ def check_listed_given_code_and_student_functions_pass(tmp):
     expect_success(run, "listed given code")
     kit = read(run, "stages/part1_demo/work.cpp")
     expect("struct Item {" in kit and "int glue(int x)" in kit, "the given code is missing from the kit")
-    expect('todo_once("Part 1: solve' in kit, "the stub is missing from the kit")
+    expect("  PT_TODO(1);\n  return item.value;\n" in kit, f"the stub is missing from the kit:\n{kit}")
     expect("SolutionBuilder" not in kit and "kSolutionOnlyConstant" not in kit and "SOLUTION" not in kit,
            "solution code or markers left in the kit")
 
@@ -572,7 +572,7 @@ def check_emptied_helper_namespace_gets_a_hint(tmp):
 
         int solve(int x) {
           // BEGIN SOLUTION
-          // STUB: todo_once("Part 1: solve (stages/part1_demo/work.cpp)");
+          // STUB: PT_TODO(1);
           // STUB: return 0;
           return helper_that_triples_its_argument(x) + 1;
           // END SOLUTION
@@ -593,6 +593,67 @@ def check_emptied_helper_namespace_gets_a_hint(tmp):
     expect_success(run, "a helper namespace that keeps given code")
     expect("Your helper functions go here." not in read(run, "stages/part1_demo/work.cpp"),
            "a namespace holding given code got the hint")
+
+
+def check_stripped_file_keeps_the_project_layout(tmp):
+    """A kit file reads like the project's: a helper region between blank
+    lines leaves one blank line, stubs are indented like their region and
+    keep their own inner indentation."""
+    text = dedent("""
+        #include "work.h"
+        #include "todo.h"
+
+        namespace pt {
+
+        namespace {
+
+        struct Given {
+          int v;
+        };
+
+        // BEGIN SOLUTION
+        int solution_helper_that_doubles(int x) { return 2 * x; }
+        // END SOLUTION
+
+        }  // namespace
+
+        int solve(int x) {
+          if (x > 0) {
+            // BEGIN SOLUTION
+            // STUB: PT_TODO(1);
+            // STUB: for (int i = 0; i < x; ++i) {
+            // STUB:   unused(i);
+            // STUB: }
+            return solution_helper_that_doubles(x) + Given{x}.v;
+            // END SOLUTION
+          }
+          return 0;
+        }
+
+        }  // namespace pt
+        """)
+    run = generate(base_tree({"stages/part1_demo/work.cpp": text},
+                             given_rows=(("work.h", "whole file"), ("work.cpp", "`Given`"))), tmp)
+    expect_success(run, "a file with a helper region between blank lines")
+    kit = read(run, "stages/part1_demo/work.cpp")
+    expect("};\n\n}  // namespace\n" in kit, f"the removed region left extra blank lines:\n{kit}")
+    expect("\n\n\n" not in kit, f"two blank lines in a row:\n{kit}")
+    expect("  if (x > 0) {\n    PT_TODO(1);\n    for (int i = 0; i < x; ++i) {\n      unused(i);\n    }\n  }\n" in kit,
+           f"the stub is not indented like its region:\n{kit}")
+
+
+def check_todo_part_must_match_its_folder(tmp):
+    """A stub's PT_TODO in stages/partK_*/ must name part K: the grader
+    reads the part from the line it prints."""
+    run = generate(base_tree(), tmp)
+    expect_success(run, "PT_TODO(1) in part 1")
+    wrong = student_cpp().replace("PT_TODO(1);", "PT_TODO(3);")
+    run = generate(base_tree({"stages/part1_demo/work.cpp": wrong}), tmp)
+    expect_failure(run, f"stages/part1_demo/work.cpp:{line_of(wrong, 'PT_TODO(3)')}:", "part 3", "part 1 folder",
+                   what="PT_TODO(3) in part 1")
+    named = student_cpp().replace("PT_TODO(1);", 'PT_TODO_AS(2, "Work::solve", "a note");')
+    run = generate(base_tree({"stages/part1_demo/work.cpp": named}), tmp)
+    expect_failure(run, "stages/part1_demo/work.cpp:", "part 2", what="PT_TODO_AS(2, ...) in part 1")
 
 
 def main():

@@ -8,9 +8,6 @@
 
 namespace pt {
 
-constexpr float kInvPi = 1.0f / kPi;
-constexpr float kInv2Pi = 1.0f / (2.0f * kPi);
-
 // Uniform over the hemisphere z >= 0; pdf 1 / (2 pi) per steradian.
 inline Vec3 sample_uniform_hemisphere(float u1, float u2) {
   const float z = u1;

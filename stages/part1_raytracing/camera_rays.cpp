@@ -2,16 +2,17 @@
 
 #include <cmath>
 
+#include "math_constants.h"
 #include "todo.h"
 
 namespace pt {
 
 Ray generate_ray(const Camera& cam, double x, double y) {
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 1: generate_ray (stages/part1_raytracing/camera_rays.cpp)");
-  // STUB: (void)x; (void)y;
+  // STUB: PT_TODO(1);
+  // STUB: unused(x, y);
   // STUB: return Ray(Vec3(cam.position), Vec3(0, 0, -1), float(cam.near_clip), float(cam.far_clip));
-  const double deg = 3.14159265358979323846 / 180.0;
+  const double deg = kPiDouble / 180.0;
   const double tan_h = std::tan(0.5 * cam.hfov_deg * deg);
   const double tan_v = std::tan(0.5 * cam.vfov_deg * deg);
   const Vec3d sensor((2.0 * x - 1.0) * tan_h, (2.0 * y - 1.0) * tan_v, -1.0);

@@ -7,8 +7,8 @@ namespace pt {
 
 Ray camera_sample_ray(const Camera& cam, int x, int y, bool jitter, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 1: camera_sample_ray (stages/part1_raytracing/pixel_sampling.cpp)");
-  // STUB: (void)jitter; (void)rng;
+  // STUB: PT_TODO(1);
+  // STUB: unused(jitter, rng);
   // STUB: return generate_ray(cam, (x + 0.5) / cam.width, (y + 0.5) / cam.height);
   double dx = 0.5, dy = 0.5;
   if (jitter) {
@@ -24,8 +24,8 @@ Color raytrace_pixel(const Camera& cam, int x, int y, int num_samples, uint64_t 
                      const RadianceFn& radiance) {
   const uint64_t pixel = uint64_t(y) * uint64_t(cam.width) + uint64_t(x);
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp)");
-  // STUB: (void)num_samples;
+  // STUB: PT_TODO(1);
+  // STUB: unused(num_samples);
   // STUB: Rng rng = Rng::for_sample(seed, pixel, 0);
   // STUB: return radiance(camera_sample_ray(cam, x, y, false, rng), rng);
   Color sum(0.0f);

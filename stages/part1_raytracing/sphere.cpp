@@ -9,8 +9,8 @@ namespace pt {
 
 bool intersect_sphere(const Sphere& s, Ray& r, Hit* hit) {
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 1: intersect_sphere (stages/part1_raytracing/sphere.cpp)");
-  // STUB: (void)s; (void)r; (void)hit;
+  // STUB: PT_TODO(1);
+  // STUB: unused(s, r, hit);
   // STUB: return false;
   // Solve a t^2 + 2 b t + c = 0 with b = d.(o-c); in double, as the
   // difference of nearly equal terms loses float precision for far spheres.

@@ -8,8 +8,8 @@ namespace pt {
 
 bool intersect_triangle(const Triangle& tri, Ray& r, Hit* hit) {
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 1: intersect_triangle (stages/part1_raytracing/triangle.cpp)");
-  // STUB: (void)tri; (void)r; (void)hit;
+  // STUB: PT_TODO(1);
+  // STUB: unused(tri, r, hit);
   // STUB: return false;
   const Vec3 e1 = tri.p2 - tri.p1, e2 = tri.p3 - tri.p1;
   const Vec3 s1 = cross(r.d, e2);

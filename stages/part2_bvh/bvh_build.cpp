@@ -179,7 +179,7 @@ void BVH::build(const BVHOptions& options) {
   stats_ = BVHBuildStats{};
   if (!prims.empty()) {
     // BEGIN SOLUTION
-    // STUB: todo_once("Part 2: BVH construction (stages/part2_bvh/bvh_build.cpp); using one leaf");
+    // STUB: PT_TODO_AS(2, "BVH construction", "using one leaf");
     // STUB: (void)options;
     // STUB: nodes_.resize(2);
     // STUB: BBox all;

@@ -1,6 +1,7 @@
 // Part 2, task 3: closest-hit and occlusion queries through the BVH.
 #include <cmath>
 
+#include "brute_force.h"
 #include "bvh.h"
 #include "slab_test.h"
 // BEGIN SOLUTION
@@ -47,17 +48,8 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
   ++stats.closest_queries;
   if (nodes_.empty()) return false;
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 2: BVH::intersect (stages/part2_bvh/bvh_traverse.cpp); testing every primitive");
-  // STUB: bool found = false;
-  // STUB: for (size_t i = 0; i < scene_.triangles.size(); ++i) {
-  // STUB:   ++stats.primitive_tests;
-  // STUB:   if (intersect_triangle(scene_.triangles[i], r, hit)) { found = true; if (hit) hit->primitive = int(i); }
-  // STUB: }
-  // STUB: for (size_t i = 0; i < scene_.spheres.size(); ++i) {
-  // STUB:   ++stats.primitive_tests;
-  // STUB:   if (intersect_sphere(scene_.spheres[i], r, hit)) { found = true; if (hit) hit->primitive = int(num_triangles_ + i); }
-  // STUB: }
-  // STUB: return found;
+  // STUB: PT_TODO_AS(2, "BVH::intersect", "testing every primitive");
+  // STUB: return intersect_every_primitive(scene_, r, hit);
   const PairRay pray(r);
   uint64_t tests = 0, visits = 0;
   int best = -1;  // leaf-order index of the nearest primitive so far
@@ -146,10 +138,8 @@ bool BVH::occluded(const Ray& ray) const {
   if (nodes_.empty()) return false;
   Ray r = ray;
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 2: BVH::occluded (stages/part2_bvh/bvh_traverse.cpp); testing every primitive");
-  // STUB: for (const Triangle& t : scene_.triangles) { ++stats.primitive_tests; if (intersect_triangle(t, r, nullptr)) return true; }
-  // STUB: for (const Sphere& s : scene_.spheres) { ++stats.primitive_tests; if (intersect_sphere(s, r, nullptr)) return true; }
-  // STUB: return false;
+  // STUB: PT_TODO_AS(2, "BVH::occluded", "testing every primitive");
+  // STUB: return any_primitive_occludes(scene_, r);
   const PairRay pray(r);
   uint64_t tests = 0, visits = 0;
   bool found = false;

@@ -13,8 +13,8 @@ namespace pt {
 Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit) {
   (void)r;
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 3: zero_bounce_radiance (stages/part3_direct_lighting/direct_lighting.cpp)");
-  // STUB: (void)ctx; (void)hit;
+  // STUB: PT_TODO(3);
+  // STUB: unused(ctx, hit);
   // STUB: return Color(0.0f);
   return emission(ctx.scene.materials[size_t(hit.material)]);
   // END SOLUTION
@@ -22,8 +22,8 @@ Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& h
 
 Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 3: estimate_direct_lighting_hemisphere (stages/part3_direct_lighting/direct_lighting.cpp)");
-  // STUB: (void)ctx; (void)r; (void)hit; (void)rng;
+  // STUB: PT_TODO(3);
+  // STUB: unused(ctx, r, hit, rng);
   // STUB: return Color(0.0f);
   const Frame frame = Frame::from_normal(hit.n);
   const Vec3 p = r.at(hit.t);
@@ -46,8 +46,8 @@ Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& 
 
 Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 3: estimate_direct_lighting_importance (stages/part3_direct_lighting/direct_lighting.cpp)");
-  // STUB: (void)ctx; (void)r; (void)hit; (void)rng;
+  // STUB: PT_TODO(3);
+  // STUB: unused(ctx, r, hit, rng);
   // STUB: return Color(0.0f);
   const Frame frame = Frame::from_normal(hit.n);
   const Vec3 p = r.at(hit.t);

@@ -11,8 +11,8 @@ namespace pt {
 Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions& opts, const Ray& r,
                                    const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 4: at_least_one_bounce_radiance (stages/part4_global_illumination/global_illumination.cpp)");
-  // STUB: (void)opts;
+  // STUB: PT_TODO(4);
+  // STUB: unused(opts);
   // STUB: return one_bounce_radiance(ctx, r, hit, rng);
   // One path, bounce by bounce, in a loop rather than by recursion: -m sets
   // the path length, and -m 1000000 --no-rr must not exhaust the stack.

@@ -8,8 +8,8 @@ namespace pt {
 
 bool pixel_converged(double s1, double s2, int n, double tolerance) {
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 5: pixel_converged (stages/part5_adaptive_sampling/adaptive_sampling.cpp)");
-  // STUB: (void)s1; (void)s2; (void)n; (void)tolerance;
+  // STUB: PT_TODO(5);
+  // STUB: unused(s1, s2, n, tolerance);
   // STUB: return false;
   if (n < 2) return false;
   const double mean = s1 / n;
@@ -22,8 +22,8 @@ Color raytrace_pixel_adaptive(const Camera& cam, int x, int y, int max_samples, 
                               const RadianceFn& radiance, const AdaptiveOptions& opts, int* samples_taken) {
   const uint64_t pixel = uint64_t(y) * uint64_t(cam.width) + uint64_t(x);
   // BEGIN SOLUTION
-  // STUB: todo_once("Part 5: raytrace_pixel_adaptive (stages/part5_adaptive_sampling/adaptive_sampling.cpp)");
-  // STUB: (void)pixel; (void)opts;
+  // STUB: PT_TODO(5);
+  // STUB: unused(pixel, opts);
   // STUB: *samples_taken = max_samples;
   // STUB: return raytrace_pixel(cam, x, y, max_samples, seed, radiance);
   Color sum(0.0f);

@@ -8,6 +8,9 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
+#include <set>
 #include <sstream>
 
 #include "image_io.h"
@@ -58,6 +61,130 @@ TEST_CASE("help (-h) prints usage and exits 0", "[cli]") {
   for (const char* flag : {"-s", "-l", "-t", "-m", "-o", "-e", "-b", "-d", "-f", "-r", "-c", "-a", "-H", "-p",
                            "--part", "--seed"})
     CHECK(r.out.find(std::string(flag) + " ") != std::string::npos);
+}
+
+namespace {
+
+// The flags `pathtracer -h` lists: each group of names ("-h,--help") with
+// its default ("=1"), or "" when it shows none.
+std::vector<std::pair<std::vector<std::string>, std::string>> help_flags(const std::string& help) {
+  std::vector<std::pair<std::vector<std::string>, std::string>> flags;
+  std::istringstream in(help);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("  -", 0) != 0) continue;
+    const std::string head = line.substr(2, line.find("  ", 2) == std::string::npos ? std::string::npos
+                                                                                    : line.find("  ", 2) - 2);
+    std::vector<std::string> names;
+    std::stringstream group(head.substr(0, head.find(' ')));
+    for (std::string name; std::getline(group, name, ',');) names.push_back(name);
+    const size_t eq = head.rfind('=');
+    flags.emplace_back(names, eq == std::string::npos ? "" : head.substr(eq + 1));
+  }
+  return flags;
+}
+
+// The rows of a Markdown file's "| flag | meaning | default |" table: the
+// flags a row names (the first word of each backticked item of its first
+// cell) and its default cell.
+std::vector<std::pair<std::vector<std::string>, std::string>> readme_flags(const std::string& text) {
+  std::vector<std::pair<std::vector<std::string>, std::string>> rows;
+  std::istringstream in(text);
+  bool inside = false;
+  for (std::string line; std::getline(in, line);) {
+    if (!inside) {
+      inside = line.rfind("| flag | meaning | default |", 0) == 0;
+      continue;
+    }
+    if (line.rfind("|", 0) != 0) break;
+    if (line.rfind("|---", 0) == 0) continue;
+    std::vector<std::string> cells;
+    std::stringstream row(line.substr(1));
+    for (std::string cell; std::getline(row, cell, '|');) cells.push_back(cell);
+    REQUIRE(cells.size() >= 3);
+    std::vector<std::string> names;
+    static const std::regex item("`(-[-A-Za-z]+)[^`]*`");
+    for (std::sregex_iterator m(cells[0].begin(), cells[0].end(), item), end; m != end; ++m)
+      names.push_back((*m)[1]);
+    std::string def = cells[2];
+    def.erase(0, def.find_first_not_of(' '));
+    def.erase(def.find_last_not_of(' ') + 1);
+    rows.emplace_back(names, def);
+  }
+  return rows;
+}
+
+std::string repository_root() {
+  const std::string scenes = PT_PROJECT_SCENES;
+  return scenes.substr(0, scenes.rfind('/'));
+}
+
+}  // namespace
+
+// The README's flag table (and the students' README's, in the reference
+// tree) is kept by hand: it must name exactly the flags of -h, with the
+// defaults -h shows.
+TEST_CASE("the README flag tables list every flag of -h and nothing else, with its defaults", "[cli]") {
+  const auto r = run_pathtracer({"-h"});
+  REQUIRE(r.exit_code == 0);
+  const auto help = help_flags(r.out);
+  REQUIRE(help.size() >= 20);
+  std::vector<std::string> readmes = {repository_root() + "/README.md"};
+  const std::string students = repository_root() + "/instructors/starter_kit/overlay/README.md";
+  if (std::filesystem::exists(students)) readmes.push_back(students);
+  for (const std::string& readme : readmes) {
+    INFO(readme);
+    const auto rows = readme_flags(read_bytes(readme));
+    REQUIRE(!rows.empty());
+    std::map<std::string, std::string> readme_default;  // flag -> its default in the table
+    for (const auto& [names, def] : rows) {
+      std::vector<std::string> defaults;
+      std::stringstream split(def);
+      for (std::string d; std::getline(split, d, ',');) defaults.push_back(d.substr(d.find_first_not_of(' ')));
+      for (size_t i = 0; i < names.size(); ++i) {
+        INFO("the table lists " << names[i] << " twice");
+        CHECK(readme_default.count(names[i]) == 0);
+        readme_default[names[i]] = defaults.size() == names.size() ? defaults[i] : def;
+      }
+    }
+    std::set<std::string> in_help;
+    for (const auto& [names, def] : help) {
+      int listed = 0;
+      for (const std::string& n : names) {
+        in_help.insert(n);
+        if (!readme_default.count(n)) continue;
+        ++listed;
+        if (!def.empty()) {
+          INFO("default of " << n);
+          CHECK(readme_default[n] == def);
+        }
+      }
+      INFO("-h has " << names[0] << ", the table does not");
+      CHECK(listed == 1);
+    }
+    for (const auto& [name, def] : readme_default) {
+      INFO("the table has " << name << ", -h does not");
+      CHECK(in_help.count(name) == 1);
+    }
+  }
+}
+
+// docs/differences.md lists the flags the course's command line does not
+// have; -h decides which those are.
+TEST_CASE("docs/differences.md names every flag the course does not have", "[cli]") {
+  const auto r = run_pathtracer({"-h"});
+  REQUIRE(r.exit_code == 0);
+  const std::set<std::string> course = {"-s", "-l", "-t", "-m", "-o", "-e", "-b", "-d", "-f",
+                                        "-r", "-c", "-a", "-H", "-p", "-h", "--help"};
+  const std::string text = read_bytes(repository_root() + "/docs/differences.md");
+  const size_t row = text.find("| new flags: ");
+  REQUIRE(row != std::string::npos);
+  const std::string line = text.substr(row, text.find('\n', row) - row);
+  for (const auto& [names, def] : help_flags(r.out))
+    for (const std::string& n : names) {
+      if (course.count(n)) continue;
+      INFO(n << " is not in the new-flags row of docs/differences.md: " << line);
+      CHECK(line.find("`" + n) != std::string::npos);
+    }
 }
 
 TEST_CASE("bad flag values fail with one clear line and write nothing", "[cli]") {

@@ -1,4 +1,4 @@
-// The grader against hostile student binaries (tests/grader/fake_student.cpp):
+// The grader against hostile student binaries (instructors/fake_student/fake_student.cpp):
 // one that crashes, hangs, prints garbage, writes a truncated PNG, NaNs, the
 // wrong size, nothing, fills the disk, leaves a named pipe or a PFM whose
 // header lies, forks children that hang, or exits with an error. Each must

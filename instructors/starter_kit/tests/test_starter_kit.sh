@@ -1,0 +1,154 @@
+#!/usr/bin/env bash
+# The starter kit, end to end: generate it from this tree, check that it
+# holds no solution code and the students' documents, build it, check that
+# it renders, that its scripts/run.sh grades it, and that its part tests
+# fail saying what to implement; then put the reference's stages back and
+# check that all its tests pass.
+#   test_starter_kit.sh SOURCE_DIR WORK_DIR COURSE_SCENES
+set -euo pipefail
+src=$1 work=$2 course=$3
+jobs=$(nproc 2>/dev/null || echo 2)
+rm -rf "$work"
+mkdir -p "$(dirname "$work")"
+
+fail() { echo "FAIL: $*"; exit 1; }
+
+"$src/instructors/starter_kit/make_starter_kit.py" "$work/kit" || fail "the kit generator failed"
+kit=$work/kit
+
+# No solution code: no markers or stub comments left in any C++ file, no
+# reference-only file, no instructor-only file, and no line of a solution
+# (one that the reference has nowhere outside its solution regions).
+grep -rlE --include="*.cpp" --include="*.h" "(BEGIN|END) SOLUTION|// STUB:" "$kit" \
+  && fail "solution markers left in the kit"
+for gone in .ci instructors; do
+  [ -e "$kit/$gone" ] && fail "the kit holds $gone/, which is for instructors only"
+done
+python3 - "$src" "$kit" <<'PY' || fail "solution code in the kit"
+import os, re, sys
+src, kit = sys.argv[1:]
+def sources(root):
+    for d, _, names in os.walk(root):
+        if os.path.relpath(d, root).split(os.sep)[0].startswith(("build", ".git")):
+            continue
+        for n in names:
+            if n.endswith((".h", ".cpp")):
+                yield os.path.join(d, n)
+solution, outside = set(), set()
+for path in sources(src):
+    lines = open(path, encoding="utf-8").read().split("\n")
+    rel = os.path.relpath(path, src)
+    if lines[0].startswith("// REFERENCE ONLY"):
+        solution.update(l.strip() for l in lines)
+        if os.path.exists(os.path.join(kit, rel)):
+            sys.exit(f"{rel} is REFERENCE ONLY but in the kit")
+        continue
+    inside = False
+    for l in lines:
+        if "// BEGIN SOLUTION" in l or "// END SOLUTION" in l:
+            inside = "BEGIN" in l
+        elif inside and not l.strip().startswith("// STUB:"):
+            solution.add(l.strip())
+        else:
+            outside.add(re.sub(r"^// STUB: ?", "", l.strip()))
+evidence = {l for l in solution - outside if len(l) >= 12 and len(re.findall(r"\w+", l)) >= 3}
+if len(evidence) < 100:
+    sys.exit(f"only {len(evidence)} solution lines found in {src}: is this the reference tree?")
+for d, _, names in os.walk(kit):
+    for n in names:
+        if n.endswith((".h", ".cpp", ".md", ".sh", ".py", ".txt")):
+            path = os.path.join(d, n)
+            for number, l in enumerate(open(path, encoding="utf-8"), 1):
+                if l.strip() in evidence:
+                    sys.exit(f"{os.path.relpath(path, kit)}:{number}: solution line: {l.strip()}")
+PY
+
+# The students' documents: their own README and grader README and run.sh,
+# and no Markdown link to something the kit does not hold.
+cmp -s "$kit/README.md" "$src/instructors/starter_kit/overlay/README.md" || fail "the kit's README.md is not the students' (instructors/starter_kit/overlay/README.md)"
+cmp -s "$kit/grader/README.md" "$src/instructors/starter_kit/overlay/grader_README.md" || fail "the kit's grader/README.md is not the students'"
+grep -q "Rendered with your build" "$kit/scripts/run.sh" || fail "the kit's scripts/run.sh does not say 'your build'"
+grep -q "Grading the reference build" "$kit/scripts/run.sh" && fail "the kit's scripts/run.sh speaks of the reference build"
+python3 - "$kit" <<'PY' || fail "broken links in the kit's Markdown files"
+import os, re, sys
+kit = sys.argv[1]
+bad = []
+for d, dirs, names in os.walk(kit):
+    dirs[:] = [x for x in dirs if not (d == kit and x == "build")]
+    for n in names:
+        if not n.endswith(".md"):
+            continue
+        path = os.path.join(d, n)
+        text = re.sub(r"```.*?```", "", open(path, encoding="utf-8").read(), flags=re.S)
+        for target in re.findall(r"\]\(([^)\s]+)\)", re.sub(r"`[^`\n]*`", "", text)):
+            if re.match(r"[a-z]+:", target) or target.startswith("#"):
+                continue
+            if not os.path.exists(os.path.join(d, target.split("#")[0])):
+                bad.append(f"{os.path.relpath(path, kit)}: {target}")
+if bad:
+    sys.exit("links to what the kit does not hold:\n  " + "\n  ".join(bad))
+PY
+grep -rnE "instructors/|gradescope/|grade_mutants|mutants\.txt|mutants/|make_starter_kit|starter_kit/|fuzz_|fake_student|compare_embree|bvh_table\.sh|ray_bench" \
+  --include="*.md" "$kit" && fail "the kit's documents mention instructor-only files"
+
+cmake -S "$kit" -B "$kit/build" -DCMAKE_BUILD_TYPE=Release -DPT_COURSE_SCENES="$course" >/dev/null \
+  || fail "the kit does not configure"
+cmake --build "$kit/build" -j "$jobs" >"$work/build.log" 2>&1 || { tail -30 "$work/build.log"; fail "the kit does not build"; }
+
+# It runs and writes an image, saying which functions are missing.
+"$kit/build/bin/pathtracer" --part 1 -r 32 24 -f "$work/kit.png" "$src/scenes/CBspheres_lambertian.dae" \
+  >"$work/run.out" 2>"$work/run.err" || fail "the kit's pathtracer --part 1 failed: $(cat "$work/run.err")"
+[ -s "$work/kit.png" ] || fail "the kit's pathtracer wrote no image"
+grep -q "TODO: implement Part 1: generate_ray" "$work/run.err" || fail "no 'implement generate_ray' message"
+
+# Its main script, on the unfinished kit: renders with the student's build,
+# lists what is not implemented, grades the build on every case (each stops
+# at its first TODO line) and says where the report is (exit status 1: cases
+# fail); with arguments it grades only the cases they select. Skipped where
+# packages are missing, as the script would stop to ask for them.
+if "$kit/scripts/setup.sh" >/dev/null 2>&1; then
+  status=0
+  (cd "$kit" && scripts/run.sh --part 1) >"$work/run_sh_part1.log" 2>&1 || status=$?
+  [ "$status" -eq 1 ] || { tail -20 "$work/run_sh_part1.log"; fail "scripts/run.sh --part 1 exited $status, expected 1"; }
+  grep -qE "^ +1 +p1_" "$work/run_sh_part1.log" && ! grep -qE "^ +[2-5] +p[2-5]_" "$work/run_sh_part1.log" \
+    || fail "scripts/run.sh --part 1 did not grade part 1's cases alone"
+  status=0
+  (cd "$kit" && scripts/run.sh) >"$work/run_sh.log" 2>&1 || status=$?
+  [ "$status" -eq 1 ] || { tail -20 "$work/run_sh.log"; fail "the kit's scripts/run.sh exited $status, expected 1"; }
+  for want in "Rendered with your build: out/CBspheres_lambertian.png" \
+              "Not implemented yet: Part 1: generate_ray (stages/part1_raytracing/camera_rays.cpp)" \
+              "Your report: out/grade/report.html"; do
+    grep -qF "$want" "$work/run_sh.log" || { tail -20 "$work/run_sh.log"; fail "the kit's scripts/run.sh did not print: $want"; }
+  done
+  grep -q "^TODO: implement" "$work/run_sh.log" && fail "the kit's scripts/run.sh printed raw TODO lines"
+  grep -q "Part 1 not implemented" "$work/run_sh.log" \
+    || fail "the kit's grading does not say that part 1 is not implemented"
+  [ -s "$kit/out/CBspheres_lambertian.png" ] && [ -s "$kit/out/grade/report.html" ] \
+    || fail "the kit's scripts/run.sh wrote no image or no report"
+else
+  echo "note: packages missing (scripts/setup.sh), so the kit's scripts/run.sh was not run"
+fi
+
+# Its part tests fail, and the failures name the function to write.
+for part in 1 2 3 4 5; do
+  # The first failure is enough to see the message; stopping there keeps
+  # this check short (stubbed parts brute-force everything and run slowly).
+  if ctest --test-dir "$kit/build" -L "part$part" --output-on-failure --stop-on-failure --timeout 300 \
+       >"$work/part$part.log" 2>&1; then
+    fail "the kit's part $part tests pass with stubs"
+  fi
+  # A part's tests name the first missing function on their path (for part 3
+  # that is a part 1 function until part 1 is done), and nothing crashes.
+  grep -q "TODO: implement Part" "$work/part$part.log" || fail "part $part failures do not say what to implement"
+  grep -qE "SEGFAULT|Child aborted|Subprocess aborted|Exception: |Timeout" "$work/part$part.log" \
+    && fail "part $part tests crashed or hung with the stubs"
+done
+
+# With the reference's stages the kit is the reference: everything passes.
+rm -rf "$kit/stages"
+cp -r "$src/stages" "$kit/stages"
+cmake --build "$kit/build" -j "$jobs" >"$work/build2.log" 2>&1 || { tail -30 "$work/build2.log"; fail "rebuild with the reference stages failed"; }
+ctest --test-dir "$kit/build" -j "$jobs" -E "scenes_up_to_date|starter_kit" >"$work/reference.log" 2>&1 \
+  || { grep -E "Failed|\*\*\*" "$work/reference.log" | head -20; fail "the kit with the reference's stages fails tests"; }
+echo "PASS: kit generated without solution code, with the students' documents; builds, runs, grades, names its"
+echo "      missing functions; with the reference stages all tests pass"

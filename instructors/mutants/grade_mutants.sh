@@ -136,6 +136,8 @@ build_pathtracer() {  # build DIR SOURCE: configure (once), then build the patht
 status=0
 started=$(date -u +%Y-%m-%dT%H:%M:%SZ)
 t0=$SECONDS
+# The commit graded: the tree is copied now, and HEAD may move during the run.
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 
 # The reference build, every case.
 echo "== reference"
@@ -228,7 +230,7 @@ mkdir -p "$(dirname "$table")"
   echo "when it loses points on some case. \"parts\" lists the parts whose cases took points; \"part\" is the"
   echo "part the bug belongs to. The reference build and the starter kit are graded on every case too."
   echo
-  echo "Made by \`instructors/mutants/grade_mutants.sh\` at commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown) on $started ($(( (SECONDS - t0) / 60 )) min): $caught_count of ${#names[@]} mutants caught."
+  echo "Made by \`instructors/mutants/grade_mutants.sh\` at commit $commit on $started ($(( (SECONDS - t0) / 60 )) min): $caught_count of ${#names[@]} mutants caught."
   echo
   echo "| build | score | cases that lose points |"
   echo "|---|---:|---|"

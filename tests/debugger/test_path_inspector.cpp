@@ -27,7 +27,7 @@
 #include "path_recorder.h"
 #include "pixel_sampling.h"
 #include "render_job.h"
-#include "statistics.h"
+#include "statistics/analytic_scenes.h"
 #include "support.h"
 #include "todo.h"
 

@@ -21,7 +21,6 @@
 #include "direct_lighting.h"
 #include "json_writer.h"
 #include "sphere.h"
-#include "statistics.h"
 #include "support.h"
 #include "triangle.h"
 

@@ -27,7 +27,7 @@
 #include "json_writer.h"
 #include "path_recorder.h"
 #include "pixel_sampling.h"
-#include "shading.h"
+#include "radiance.h"
 
 namespace pt::debug {
 
@@ -390,16 +390,6 @@ class RecordingIntersector final : public Intersector {
   Recorder& rec_;
 };
 
-// The path options of a render, as the command line sets them.
-PathOptions path_options(const RenderOptions& opts) {
-  PathOptions path;
-  path.max_depth = opts.direct_only ? std::min(opts.max_depth, 1) : opts.max_depth;
-  path.accumulate = opts.accumulate_bounces;
-  path.russian_roulette = opts.russian_roulette;
-  path.skip_direct = opts.indirect_only;
-  return path;
-}
-
 void check_options(const Scene& scene, const RenderOptions& opts, int x, int y, int sample_index) {
   if (opts.part < 1 || opts.part > kPartsBuilt)
     throw InputError("part must be from 1 to " + std::to_string(kPartsBuilt));
@@ -499,20 +489,9 @@ PathRecord record_path(const Scene& scene, const Intersector& geometry, const Re
 
   Recorder recorder(scene, opts, rec);
   const RecordingIntersector isect(geometry, recorder);
-  // The render's radiance function for the part, as the command line
-  // composes it (pathtracer/render_job.cpp), on the watched geometry.
-  ShadingContext ctx{scene, isect};
-  ctx.light_samples = opts.light_samples;
-  ctx.hemisphere = opts.hemisphere_sampling;
-  ctx.course_area_pdf = opts.course_area_pdf;
-  const PathOptions path = path_options(opts);
-  RadianceFn radiance;
-  if (opts.part <= 2)
-    radiance = [&isect](const Ray& r, Rng&) { return normal_shading(isect, r); };
-  else if (opts.part == 3)
-    radiance = [&ctx](const Ray& r, Rng& rng) { return direct_illumination(ctx, r, rng); };
-  else
-    radiance = [&ctx, &path](const Ray& r, Rng& rng) { return est_radiance_global_illumination(ctx, path, r, rng); };
+  // The render's radiance function for the part (pathtracer/radiance.h),
+  // on the watched geometry.
+  const RadianceFn radiance = part_radiance(scene, isect, opts);
 
   // The pixel function calls `replay` once per sample, in order. Only the
   // chosen sample is recorded. The others are traced only where their

@@ -14,12 +14,11 @@
 #include "clock.h"
 #include "collada.h"
 #include "cost_splitting_intersector.h"
-#include "global_illumination.h"
 #include "image_io.h"
 #include "json.h"
 #include "pixel_sampling.h"
+#include "radiance.h"
 #include "render_loop.h"
-#include "shading.h"
 
 namespace pt {
 
@@ -68,25 +67,9 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
   const CostSplittingIntersector counted(*geometry);
   const Intersector& isect = counted;
 
-  // Part 3: emission plus one bounce of direct light. Part 4: paths of up
-  // to -m bounces with Russian roulette.
-  ShadingContext ctx{scene, isect};
-  ctx.light_samples = opts.light_samples;
-  ctx.hemisphere = opts.hemisphere_sampling;
-  ctx.course_area_pdf = opts.course_area_pdf;
-  PathOptions path;
-  path.max_depth = opts.direct_only ? std::min(opts.max_depth, 1) : opts.max_depth;
-  path.accumulate = opts.accumulate_bounces;
-  path.russian_roulette = opts.russian_roulette;
-  path.skip_direct = opts.indirect_only;
-
-  RadianceFn radiance;
-  if (opts.part <= 2)
-    radiance = [&isect](const Ray& r, Rng&) { return normal_shading(isect, r); };
-  else if (opts.part == 3)
-    radiance = [&ctx](const Ray& r, Rng& rng) { return direct_illumination(ctx, r, rng); };
-  else
-    radiance = [&ctx, &path](const Ray& r, Rng& rng) { return est_radiance_global_illumination(ctx, path, r, rng); };
+  // Part 3: emission plus one bounce of direct light. Parts 4 and 5: paths
+  // of up to -m bounces with Russian roulette (radiance.h).
+  const RadianceFn radiance = part_radiance(scene, isect, opts);
 
   PixelRect rect{0, 0, opts.width, opts.height};
   if (opts.cell_set)

@@ -13,9 +13,12 @@
 //   replaying the wrong sample (off by one)         -> camera ray; adds up exactly
 //   an infinite max_t written as a bare inf         -> JSON of path records is valid
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -24,6 +27,7 @@
 #include "debugger.h"
 #include "direct_lighting.h"
 #include "global_illumination.h"
+#include "json.h"
 #include "path_recorder.h"
 #include "pixel_sampling.h"
 #include "render_job.h"
@@ -236,6 +240,73 @@ class JsonCheck {
   size_t i_ = 0;
 };
 
+
+// A float as the page reads it back: a number, or "nan", "inf", "-inf".
+float read_float(const Json* v) {
+  if (v == nullptr) throw std::runtime_error("missing float");
+  if (v->type == Json::Type::String) {
+    if (v->string == "nan") return std::numeric_limits<float>::quiet_NaN();
+    if (v->string == "inf") return kInfinity;
+    if (v->string == "-inf") return -kInfinity;
+    throw std::runtime_error("not a float: \"" + v->string + "\"");
+  }
+  if (v->type != Json::Type::Number) throw std::runtime_error("not a float");
+  return float(v->number);
+}
+
+Color read_color(const Json* v) {
+  if (v == nullptr || v->array.size() != 3) throw std::runtime_error("not three floats");
+  return Color(read_float(&v->array[0]), read_float(&v->array[1]), read_float(&v->array[2]));
+}
+
+// What the page reads from a record's JSON is the record: its figures bit
+// for bit, every step, light sample and note.
+void check_read_back(const debug::PathRecord& rec, const Json& j) {
+  CHECK(j.num("part") == rec.part);
+  REQUIRE(j.get("pixel") != nullptr);
+  REQUIRE(j.get("pixel")->array.size() == 2);
+  CHECK(j.get("pixel")->array[0].number == rec.x);
+  CHECK(j.get("pixel")->array[1].number == rec.y);
+  CHECK(j.num("sample") == rec.sample);
+  CHECK(j.str("seed") == std::to_string(rec.seed));
+  CHECK(j.num("samples_taken") == rec.samples_taken);
+  CHECK(j.flag("camera_hit") == rec.camera_hit);
+  CHECK(same_bits(read_color(j.get("returned")), rec.returned));
+  CHECK(same_bits(read_color(j.get("sum_of_contributions")), rec.sum_of_contributions));
+  CHECK(same_bits(read_color(j.get("zero_bounce")), rec.zero_bounce));
+  CHECK(j.flag("exact") == rec.exact);
+  CHECK(j.flag("agrees") == rec.agrees);
+  CHECK(j.str("end") == rec.end);
+  CHECK(j.str("error") == rec.error);
+  REQUIRE(j.get("camera_ray") != nullptr);
+  CHECK(same_bits(read_color(j.get("camera_ray")->get("direction")), rec.camera_ray.d));
+  const Json* steps = j.get("steps");
+  REQUIRE(steps != nullptr);
+  REQUIRE(steps->array.size() == rec.steps.size());
+  for (size_t k = 0; k < rec.steps.size(); ++k) {
+    const Json& s = steps->array[k];
+    const debug::PathStep& step = rec.steps[k];
+    CHECK(s.num("bounce") == step.bounce);
+    CHECK(s.str("material") == step.material);
+    CHECK(same_bits(read_color(s.get("point")), step.point));
+    CHECK(same_bits(read_color(s.get("path_weight")), step.path_weight));
+    CHECK(same_bits(read_color(s.get("radiance_added")), step.radiance_added));
+    const Json* ls = s.get("light_samples");
+    const Json* hs = s.get("hemisphere_samples");
+    CHECK((ls ? ls->array.size() : 0) == step.light_samples.size());
+    CHECK((hs ? hs->array.size() : 0) == step.hemisphere_samples.size());
+    for (size_t i = 0; ls && i < std::min(ls->array.size(), step.light_samples.size()); ++i) {
+      CHECK(ls->array[i].str("verdict") == step.light_samples[i].verdict);
+      CHECK(same_bits(read_color(ls->array[i].get("contribution")), step.light_samples[i].contribution));
+    }
+  }
+  const Json* notes = j.get("notes");
+  REQUIRE(notes != nullptr);
+  REQUIRE(notes->array.size() == rec.notes.size());
+  for (size_t i = 0; i < rec.notes.size(); ++i) CHECK(notes->array[i].string == rec.notes[i]);
+  REQUIRE(j.get("todos") != nullptr);
+  CHECK(j.get("todos")->array.size() == rec.todos.size());
+}
 }  // namespace
 
 TEST_CASE("JSON of path records is valid, for every kind of record", "[debugger]") {
@@ -257,6 +328,7 @@ TEST_CASE("JSON of path records is valid, for every kind of record", "[debugger]
           const std::string json = rec.to_json();
           INFO("part " << part << " pixel (" << x << ", " << y << "): " << json);
           CHECK(JsonCheck(json).valid());
+          check_read_back(rec, parse_json(json, "a path record"));
           ++records;
         }
     }
@@ -264,7 +336,9 @@ TEST_CASE("JSON of path records is valid, for every kind of record", "[debugger]
   // Records with an error and with TODO lines.
   const RenderOptions o = options(4, w, h, 1, 3, 71);
   const ThrowingGeometry throwing;
-  CHECK(JsonCheck(debug::record_path(scene, throwing, o, 2, 2, 0).to_json()).valid());
+  const debug::PathRecord failed = debug::record_path(scene, throwing, o, 2, 2, 0);
+  CHECK(JsonCheck(failed.to_json()).valid());
+  check_read_back(failed, parse_json(failed.to_json(), "a failed path record"));
 }
 
 TEST_CASE("part 3: the recorded steps add up exactly to the render loop's sample, light and hemisphere sampling",
@@ -547,7 +621,7 @@ TEST_CASE("failing code gives a result naming where it failed, and TODO stubs ar
   CHECK(!failed.ok());
   CHECK(failed.error.find("closest-hit or shadow query") != std::string::npos);
   CHECK(failed.error.find("node index out of range") != std::string::npos);
-  CHECK(failed.to_json().find("\"error\"") != std::string::npos);
+  CHECK(parse_json(failed.to_json(), "a failed path record").str("error") == failed.error);
   CHECK(active_path_recorder() == nullptr);
 
   const auto geometry = debug::make_geometry(scene, o);

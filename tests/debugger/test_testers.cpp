@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -19,9 +20,9 @@
 #include "collada.h"
 #include "debugger.h"
 #include "direct_lighting.h"
-#include "json_writer.h"
+#include "json.h"
+#include "json_values.h"
 #include "sphere.h"
-#include "statistics/analytic_scenes.h"
 #include "support.h"
 #include "triangle.h"
 
@@ -34,6 +35,33 @@ const float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 bool same(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 bool same(const Vec3& a, const Vec3& b) { return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z); }
+
+// A float as the page reads it back: a number, or "nan", "inf", "-inf".
+float read_float(const Json* v) {
+  if (v == nullptr) throw std::runtime_error("missing float");
+  if (v->type == Json::Type::String) {
+    if (v->string == "nan") return kNaN;
+    if (v->string == "inf") return kInfinity;
+    if (v->string == "-inf") return -kInfinity;
+    throw std::runtime_error("not a float: \"" + v->string + "\"");
+  }
+  if (v->type != Json::Type::Number) throw std::runtime_error("not a float");
+  return float(v->number);
+}
+
+Vec3 read_vec(const Json* v) {
+  if (v == nullptr || v->array.size() != 3) throw std::runtime_error("not three floats");
+  return Vec3(read_float(&v->array[0]), read_float(&v->array[1]), read_float(&v->array[2]));
+}
+
+// A parsed value laid out on one line (objects and arrays), so that a whole
+// result compares with one string.
+Json on_one_line(Json v) {
+  v.one_line = true;
+  for (Json& item : v.array) item = on_one_line(item);
+  for (auto& member : v.members) member.second = on_one_line(member.second);
+  return v;
+}
 
 Triangle tilted_triangle() {
   Triangle t;
@@ -250,15 +278,76 @@ TEST_CASE("the light-sample tester refuses absurd input with a one-line InputErr
 }
 
 TEST_CASE("JSON: numbers read back as the same float, NaN and infinities become strings", "[debugger]") {
-  CHECK(debug::json_float(0.1f) == "0.100000001");
-  CHECK(std::stof(debug::json_float(0.1f)) == 0.1f);
-  CHECK(debug::json_float(kNaN) == "\"nan\"");
-  CHECK(debug::json_float(kInfinity) == "\"inf\"");
-  CHECK(debug::json_float(-kInfinity) == "\"-inf\"");
-  CHECK(debug::JsonObject().str("a\"b", "x\ny").integer("n", -3).text() == "{\"a\\\"b\": \"x\\ny\", \"n\": -3}");
+  CHECK(write_json(debug::json_float(0.1f)) == "0.100000001\n");
+  CHECK(std::stof(write_json(debug::json_float(0.1f))) == 0.1f);
+  CHECK(write_json(debug::json_float(kNaN)) == "\"nan\"\n");
+  CHECK(write_json(debug::json_float(kInfinity)) == "\"inf\"\n");
+  CHECK(write_json(debug::json_float(-kInfinity)) == "\"-inf\"\n");
+  for (float v : {0.1f, 1.0f / 3.0f, -2.5e-30f, 3.4028235e38f, 1e-45f, kNaN, kInfinity, -kInfinity}) {
+    INFO(v);
+    const Json back = parse_json(write_json(debug::json_float(v)), "a float");
+    CHECK(same(read_float(&back), v));
+  }
+  CHECK(write_json(debug::json_seed(18446744073709551615ull)) == "\"18446744073709551615\"\n");
+
+  // Strings are escaped.
+  debug::IntersectionResult quoted;
+  quoted.function = "a\"b";
+  quoted.error = "x\ny";
+  const Json q = parse_json(quoted.to_json(), "a result with quotes");
+  CHECK(q.str("function") == "a\"b");
+  CHECK(q.str("error") == "x\ny");
+
+  // Every member of a miss, in order (laid out on one line to compare).
   const debug::IntersectionResult miss =
       debug::test_ray_triangle(tilted_triangle(), {{5, 5, 5}, {0, 0, -1}, 0, kInfinity});
-  CHECK(miss.to_json() ==
+  CHECK(write_json(on_one_line(parse_json(miss.to_json(), "a miss"))) ==
         "{\"function\": \"intersect_triangle\", \"ray\": {\"origin\": [5, 5, 5], \"direction\": [0, 0, -1], "
-        "\"min_t\": 0, \"max_t\": \"inf\", \"depth\": 0}, \"hit\": false, \"max_t_after\": \"inf\", \"todos\": []}");
+        "\"min_t\": 0, \"max_t\": \"inf\", \"depth\": 0}, \"hit\": false, \"max_t_after\": \"inf\", \"todos\": []}\n");
+
+  // A hit's figures read back bit for bit.
+  const debug::IntersectionResult hit =
+      debug::test_ray_triangle(tilted_triangle(), {{0.2f, 0.3f, 5}, {0.01f, -0.003f, -2}, 0, kInfinity});
+  REQUIRE(hit.hit);
+  const Json h = parse_json(hit.to_json(), "a hit");
+  CHECK(h.flag("hit"));
+  CHECK(same(read_float(h.get("t")), hit.t));
+  CHECK(same(read_float(h.get("max_t_after")), hit.max_t_after));
+  CHECK(same(read_vec(h.get("point")), hit.point));
+  CHECK(same(read_vec(h.get("normal")), hit.normal));
+  CHECK(h.num("material", -1) == hit.material);
+  REQUIRE(h.get("ray") != nullptr);
+  CHECK(same(read_vec(h.get("ray")->get("direction")), hit.ray.d));
+
+  // A light-sample test: the seed as a string, every sample's numbers.
+  const Scene scene = load_collada(project_scene("CBlights.dae"));
+  const BVH bvh(scene);
+  const uint64_t seed = 0xfedcba9876543210ull;
+  const debug::LightSamplesResult res =
+      debug::sample_light_many(scene, 0, {0.1f, 0.02f, 0.1f}, {0, 1, 0}, 20, seed, &bvh);
+  REQUIRE(res.ok());
+  const Json l = parse_json(res.to_json(), "light samples");
+  CHECK(l.str("seed") == std::to_string(seed));
+  CHECK(l.str("light_type") == res.light_type);
+  const Json* samples = l.get("samples");
+  REQUIRE(samples != nullptr);
+  REQUIRE(samples->array.size() == res.samples.size());
+  for (size_t i = 0; i < res.samples.size(); ++i) {
+    const Json& s = samples->array[i];
+    const debug::LightSampleTest& t = res.samples[i];
+    INFO("sample " << i);
+    REQUIRE(s.get("u") != nullptr);
+    REQUIRE(s.get("u")->array.size() == 2);
+    CHECK(same(read_float(&s.get("u")->array[0]), t.u1));
+    CHECK(same(read_float(&s.get("u")->array[1]), t.u2));
+    CHECK(same(read_vec(s.get("wi")), t.sample.wi));
+    CHECK(same(read_float(s.get("pdf")), t.sample.pdf));
+    CHECK(same(read_float(s.get("distance")), t.sample.distance));
+    CHECK(s.flag("shadow_tested") == t.shadow_tested);
+    if (t.shadow_tested) {
+      CHECK(s.flag("blocked") == t.blocked);
+      REQUIRE(s.get("shadow_ray") != nullptr);
+      CHECK(same(read_float(s.get("shadow_ray")->get("max_t")), t.shadow_ray.max_t));
+    }
+  }
 }

@@ -1,7 +1,8 @@
 // The debugger's core: an intersection tester, a light-sample tester and a
 // path inspector that replays one sample of one pixel exactly and lists
 // every step of its path. The viewer's server calls these functions (in a
-// worker process) and sends each result's to_json() to the page.
+// worker process) and sends each result's to_json() to the page: its json()
+// (a value of common/json.h, see json_values.h) as write_json lays it out.
 //
 // Errors: absurd input (a zero or NaN direction, a negative radius,
 // min_t > max_t, a pixel or sample index out of range, ...) throws
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "intersector.h"
+#include "json.h"
 #include "lights.h"
 #include "options.h"
 #include "scene.h"
@@ -53,7 +55,8 @@ struct IntersectionResult {
   std::vector<std::string> todos;  // TODO stubs reached ("Part 1: intersect_triangle (...)")
   std::string error;           // the function threw: "intersect_triangle: <what>"
   bool ok() const { return error.empty(); }
-  std::string to_json() const;
+  Json json() const;
+  std::string to_json() const { return write_json(json()); }
 };
 
 // Calls the build's intersect_triangle / intersect_sphere (part 1) on the ray.
@@ -73,7 +76,7 @@ struct LightSampleTest {
   bool shadow_tested = false;  // a shadow ray was traced (geometry given, pdf > 0, cos_theta > 0)
   Ray shadow_ray;              // from the point, min_t = kRayEpsilon, max_t = distance - kRayEpsilon
   bool blocked = false;
-  std::string to_json() const;
+  Json json() const;
 };
 
 struct LightSamplesResult {
@@ -85,7 +88,8 @@ struct LightSamplesResult {
   std::vector<std::string> todos;
   std::string error;
   bool ok() const { return error.empty(); }
-  std::string to_json() const;
+  Json json() const;
+  std::string to_json() const { return write_json(json()); }
 };
 
 // The most samples one call takes.
@@ -116,7 +120,7 @@ struct LightSampleStep {
   bool blocked = false;
   std::string verdict;         // "lit", "blocked", "below the surface", "zero pdf", "not traced"
   Color contribution{0.0f};    // f L cos / pdf when lit (before the estimator's averaging)
-  std::string to_json() const;
+  Json json() const;
 };
 
 // One direction of the hemisphere estimate (-H) at a step.
@@ -126,7 +130,7 @@ struct HemisphereProbe {
   Hit probe_hit;
   Color radiance{0.0f};        // emission of what it hit, or the sky it escaped to
   float cos_theta = 0;
-  std::string to_json() const;
+  Json json() const;
 };
 
 // One hit of the path and what the estimator did there.
@@ -163,7 +167,7 @@ struct PathStep {
   bool next_traced = false;    // a bounce ray left this hit
   Ray next_ray;
   bool next_hit = false;
-  std::string to_json() const;
+  Json json() const;
 };
 
 struct PathRecord {
@@ -190,7 +194,8 @@ struct PathRecord {
   std::vector<std::string> todos;
   std::string error;
   bool ok() const { return error.empty(); }
-  std::string to_json() const;
+  Json json() const;
+  std::string to_json() const { return write_json(json()); }
 };
 
 // The closest-hit structure the command line uses for opts.part: every

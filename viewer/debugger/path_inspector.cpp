@@ -24,10 +24,10 @@
 #include "debugger.h"
 #include "frame.h"
 #include "global_illumination.h"
-#include "json_writer.h"
+#include "json_values.h"
 #include "path_recorder.h"
 #include "pixel_sampling.h"
-#include "shading.h"
+#include "radiance.h"
 
 namespace pt::debug {
 
@@ -390,16 +390,6 @@ class RecordingIntersector final : public Intersector {
   Recorder& rec_;
 };
 
-// The path options of a render, as the command line sets them.
-PathOptions path_options(const RenderOptions& opts) {
-  PathOptions path;
-  path.max_depth = opts.direct_only ? std::min(opts.max_depth, 1) : opts.max_depth;
-  path.accumulate = opts.accumulate_bounces;
-  path.russian_roulette = opts.russian_roulette;
-  path.skip_direct = opts.indirect_only;
-  return path;
-}
-
 void check_options(const Scene& scene, const RenderOptions& opts, int x, int y, int sample_index) {
   if (opts.part < 1 || opts.part > kPartsBuilt)
     throw InputError("part must be from 1 to " + std::to_string(kPartsBuilt));
@@ -468,13 +458,11 @@ std::string end_reason(const RenderOptions& opts, const PathRecord& rec) {
   if (last.depth <= 1) return "the path reached the maximum depth (-m)";
   if (last.next_traced && !last.next_hit) return "the bounce ray escaped the scene";
   if (!last.bsdf_sampled && !last.roulette_draws.empty())
-    return "Russian roulette ended the path (draw " + json_float(last.roulette_draws.front()) + " >= " +
-           json_float(kContinueProbability) + ")";
+    return "Russian roulette ended the path (draw " + json_number(last.roulette_draws.front()) + " >= " +
+           json_number(kContinueProbability) + ")";
   if (last.bsdf_sampled && !last.next_traced) return "the BSDF sample carried nothing (f = 0 or pdf = 0)";
   return "the estimator traced no further";
 }
-
-std::string color_json(const Color& c) { return json_vec(c); }
 
 }  // namespace
 
@@ -499,20 +487,9 @@ PathRecord record_path(const Scene& scene, const Intersector& geometry, const Re
 
   Recorder recorder(scene, opts, rec);
   const RecordingIntersector isect(geometry, recorder);
-  // The render's radiance function for the part, as the command line
-  // composes it (pathtracer/render_job.cpp), on the watched geometry.
-  ShadingContext ctx{scene, isect};
-  ctx.light_samples = opts.light_samples;
-  ctx.hemisphere = opts.hemisphere_sampling;
-  ctx.course_area_pdf = opts.course_area_pdf;
-  const PathOptions path = path_options(opts);
-  RadianceFn radiance;
-  if (opts.part <= 2)
-    radiance = [&isect](const Ray& r, Rng&) { return normal_shading(isect, r); };
-  else if (opts.part == 3)
-    radiance = [&ctx](const Ray& r, Rng& rng) { return direct_illumination(ctx, r, rng); };
-  else
-    radiance = [&ctx, &path](const Ray& r, Rng& rng) { return est_radiance_global_illumination(ctx, path, r, rng); };
+  // The render's radiance function for the part (pathtracer/radiance.h),
+  // on the watched geometry.
+  const RadianceFn radiance = part_radiance(scene, isect, opts);
 
   // The pixel function calls `replay` once per sample, in order. Only the
   // chosen sample is recorded. The others are traced only where their
@@ -578,77 +555,93 @@ PathRecord record_path(const Scene& scene, const Intersector& geometry, const Re
 
 // ---------------------------------------------------------------- JSON
 
-std::string LightSampleStep::to_json() const {
-  JsonObject o;
-  o.integer("light", light)
-      .raw("u", "[" + json_float(u1) + ", " + json_float(u2) + "]")
-      .vec("wi", sample.wi)
-      .flt("distance", sample.distance)
-      .flt("pdf", sample.pdf)
-      .raw("radiance", color_json(sample.radiance))
-      .flt("cos_theta", cos_theta)
-      .raw("bsdf", color_json(bsdf))
-      .str("verdict", verdict)
-      .boolean("shadow_traced", shadow_traced);
-  if (shadow_traced) o.ray("shadow_ray", shadow_ray).boolean("blocked", blocked);
-  o.raw("contribution", color_json(contribution));
-  return o.text();
+Json LightSampleStep::json() const {
+  Json o = json_object();
+  o.set("light", json_int(light))
+      .set("u", json_pair(u1, u2))
+      .set("wi", json_vec(sample.wi))
+      .set("distance", json_float(sample.distance))
+      .set("pdf", json_float(sample.pdf))
+      .set("radiance", json_vec(sample.radiance))
+      .set("cos_theta", json_float(cos_theta))
+      .set("bsdf", json_vec(bsdf))
+      .set("verdict", json_text(verdict))
+      .set("shadow_traced", json_bool(shadow_traced));
+  if (shadow_traced) o.set("shadow_ray", json_ray(shadow_ray)).set("blocked", json_bool(blocked));
+  o.set("contribution", json_vec(contribution));
+  return o;
 }
 
-std::string HemisphereProbe::to_json() const {
-  JsonObject o;
-  o.ray("ray", ray).boolean("hit", hit);
-  if (hit) o.flt("t", probe_hit.t).vec("point", ray.at(probe_hit.t)).integer("material", probe_hit.material);
-  o.raw("radiance", color_json(radiance)).flt("cos_theta", cos_theta);
-  return o.text();
+Json HemisphereProbe::json() const {
+  Json o = json_object();
+  o.set("ray", json_ray(ray)).set("hit", json_bool(hit));
+  if (hit)
+    o.set("t", json_float(probe_hit.t))
+        .set("point", json_vec(ray.at(probe_hit.t)))
+        .set("material", json_int(probe_hit.material));
+  o.set("radiance", json_vec(radiance)).set("cos_theta", json_float(cos_theta));
+  return o;
 }
 
-std::string PathStep::to_json() const {
-  JsonObject o;
-  o.integer("bounce", bounce).integer("depth", depth).ray("ray", ray);
-  o.flt("t", hit.t).vec("point", point).vec("normal", hit.n).integer("material_index", hit.material);
-  o.integer("primitive", hit.primitive).str("material", material).raw("emission", color_json(emission));
-  o.boolean("direct_estimated", direct_estimated);
+Json PathStep::json() const {
+  Json o = json_object();
+  o.set("bounce", json_int(bounce)).set("depth", json_int(depth)).set("ray", json_ray(ray));
+  o.set("t", json_float(hit.t))
+      .set("point", json_vec(point))
+      .set("normal", json_vec(hit.n))
+      .set("material_index", json_int(hit.material));
+  o.set("primitive", json_int(hit.primitive))
+      .set("material", json_text(material))
+      .set("emission", json_vec(emission));
+  o.set("direct_estimated", json_bool(direct_estimated));
   if (direct_estimated) {
-    std::vector<std::string> ls, hs, other;
-    for (const LightSampleStep& s : light_samples) ls.push_back(s.to_json());
-    for (const HemisphereProbe& p : hemisphere_samples) hs.push_back(p.to_json());
+    std::vector<Json> ls, hs, other;
+    for (const LightSampleStep& s : light_samples) ls.push_back(s.json());
+    for (const HemisphereProbe& p : hemisphere_samples) hs.push_back(p.json());
     for (const Ray& r : other_shadow_rays) other.push_back(json_ray(r));
-    o.str("estimator", estimator).raw("direct", color_json(direct)).boolean("direct_counted", direct_counted);
-    o.raw("light_samples", json_array(ls)).raw("hemisphere_samples", json_array(hs));
-    if (!other.empty()) o.raw("other_shadow_rays", json_array(other));
+    o.set("estimator", json_text(estimator))
+        .set("direct", json_vec(direct))
+        .set("direct_counted", json_bool(direct_counted));
+    o.set("light_samples", json_list(std::move(ls))).set("hemisphere_samples", json_list(std::move(hs)));
+    if (!other.empty()) o.set("other_shadow_rays", json_list(std::move(other)));
   }
-  o.raw("path_weight", color_json(path_weight)).raw("radiance_added", color_json(radiance_added));
-  std::vector<std::string> draws;
+  o.set("path_weight", json_vec(path_weight)).set("radiance_added", json_vec(radiance_added));
+  std::vector<Json> draws;
   for (float u : roulette_draws) draws.push_back(json_float(u));
-  o.raw("roulette", JsonObject()
-                        .boolean("applies", roulette_applies)
-                        .flt("continue_probability", continue_probability)
-                        .raw("draws", json_array(draws))
-                        .text());
-  o.boolean("bsdf_sampled", bsdf_sampled);
+  o.set("roulette", json_object(true)
+                        .set("applies", json_bool(roulette_applies))
+                        .set("continue_probability", json_float(continue_probability))
+                        .set("draws", json_array(std::move(draws), true)));
+  o.set("bsdf_sampled", json_bool(bsdf_sampled));
   if (bsdf_sampled)
-    o.raw("bsdf_sample", JsonObject()
-                             .raw("u", "[" + json_float(bsdf_u1) + ", " + json_float(bsdf_u2) + "]")
-                             .vec("wi_local", bsdf_wi_local)
-                             .vec("wi", bsdf_wi)
-                             .raw("f", color_json(bsdf_f))
-                             .flt("pdf", bsdf_pdf)
-                             .flt("cos_theta", bsdf_cos_theta)
-                             .text());
-  o.boolean("next_traced", next_traced);
-  if (next_traced) o.ray("next_ray", next_ray).boolean("next_hit", next_hit);
-  return o.text();
+    o.set("bsdf_sample", json_object()
+                             .set("u", json_pair(bsdf_u1, bsdf_u2))
+                             .set("wi_local", json_vec(bsdf_wi_local))
+                             .set("wi", json_vec(bsdf_wi))
+                             .set("f", json_vec(bsdf_f))
+                             .set("pdf", json_float(bsdf_pdf))
+                             .set("cos_theta", json_float(bsdf_cos_theta)));
+  o.set("next_traced", json_bool(next_traced));
+  if (next_traced) o.set("next_ray", json_ray(next_ray)).set("next_hit", json_bool(next_hit));
+  return o;
 }
 
-std::string PathRecord::to_json() const {
-  std::vector<std::string> steps_json, segments;
+Json PathRecord::json() const {
+  std::vector<Json> steps_json, segments;
+  // Each segment on one line: a path with many light samples has many.
   const auto segment = [&](const char* kind, const Vec3& from, const Vec3& to, int bounce) {
-    segments.push_back(JsonObject().str("kind", kind).vec("from", from).vec("to", to).integer("bounce", bounce).text());
+    segments.push_back(json_object(true)
+                           .set("kind", json_text(kind))
+                           .set("from", json_vec(from))
+                           .set("to", json_vec(to))
+                           .set("bounce", json_int(bounce)));
   };
   const auto open_segment = [&](const char* kind, const Ray& r, int bounce) {
-    segments.push_back(
-        JsonObject().str("kind", kind).vec("from", r.o).vec("direction", r.d).integer("bounce", bounce).text());
+    segments.push_back(json_object(true)
+                           .set("kind", json_text(kind))
+                           .set("from", json_vec(r.o))
+                           .set("direction", json_vec(r.d))
+                           .set("bounce", json_int(bounce)));
   };
   if (error.empty() || !steps.empty()) {
     if (camera_hit && !steps.empty())
@@ -657,7 +650,7 @@ std::string PathRecord::to_json() const {
       open_segment("camera", camera_ray, 1);
   }
   for (const PathStep& s : steps) {
-    steps_json.push_back(s.to_json());
+    steps_json.push_back(s.json());
     for (const LightSampleStep& l : s.light_samples)
       if (l.shadow_traced) segment(l.blocked ? "shadow_blocked" : "shadow", l.shadow_ray.o,
                                    l.shadow_ray.at(l.shadow_ray.max_t), s.bounce);
@@ -670,16 +663,18 @@ std::string PathRecord::to_json() const {
     if (s.next_traced && !s.next_hit) open_segment("bounce", s.next_ray, s.bounce + 1);
   }
   for (size_t i = 1; i < steps.size(); ++i) segment("bounce", steps[i - 1].point, steps[i].point, steps[i].bounce);
-  JsonObject o;
-  o.integer("part", part).raw("pixel", "[" + std::to_string(x) + ", " + std::to_string(y) + "]");
-  o.integer("sample", sample).str("seed", std::to_string(seed)).integer("samples_per_pixel", samples_per_pixel);
-  o.integer("samples_taken", samples_taken).ray("camera_ray", camera_ray).boolean("camera_hit", camera_hit);
-  o.raw("zero_bounce", color_json(zero_bounce)).raw("steps", json_array(steps_json)).str("end", end);
-  o.raw("returned", color_json(returned)).raw("sum_of_contributions", color_json(sum_of_contributions));
-  o.boolean("exact", exact).boolean("agrees", agrees).raw("segments", json_array(segments));
-  o.raw("notes", json_strings(notes)).raw("todos", json_strings(todos));
-  if (!error.empty()) o.str("error", error);
-  return o.text();
+  Json o = json_object();
+  o.set("part", json_int(part)).set("pixel", json_array({json_int(x), json_int(y)}, true));
+  o.set("sample", json_int(sample)).set("seed", json_seed(seed)).set("samples_per_pixel", json_int(samples_per_pixel));
+  o.set("samples_taken", json_int(samples_taken))
+      .set("camera_ray", json_ray(camera_ray))
+      .set("camera_hit", json_bool(camera_hit));
+  o.set("zero_bounce", json_vec(zero_bounce)).set("steps", json_list(std::move(steps_json))).set("end", json_text(end));
+  o.set("returned", json_vec(returned)).set("sum_of_contributions", json_vec(sum_of_contributions));
+  o.set("exact", json_bool(exact)).set("agrees", json_bool(agrees)).set("segments", json_list(std::move(segments)));
+  o.set("notes", json_strings(notes)).set("todos", json_strings(todos));
+  if (!error.empty()) o.set("error", json_text(error));
+  return o;
 }
 
 }  // namespace pt::debug

@@ -4,7 +4,7 @@
 
 #include "debugger.h"
 #include "direct_lighting.h"
-#include "json_writer.h"
+#include "json_values.h"
 #include "path_recorder.h"
 #include "rng.h"
 #include "sphere.h"
@@ -148,37 +148,43 @@ LightSamplesResult sample_light_many(const Scene& scene, int light_index, const 
   return res;
 }
 
-std::string IntersectionResult::to_json() const {
-  JsonObject o;
-  o.str("function", function).ray("ray", ray).boolean("hit", hit);
-  if (hit) o.flt("t", t).vec("point", point).vec("normal", normal).integer("material", material);
-  o.flt("max_t_after", max_t_after).raw("todos", json_strings(todos));
-  if (!error.empty()) o.str("error", error);
-  return o.text();
+Json IntersectionResult::json() const {
+  Json o = json_object();
+  o.set("function", json_text(function)).set("ray", json_ray(ray)).set("hit", json_bool(hit));
+  if (hit)
+    o.set("t", json_float(t)).set("point", json_vec(point)).set("normal", json_vec(normal)).set("material",
+                                                                                                 json_int(material));
+  o.set("max_t_after", json_float(max_t_after)).set("todos", json_strings(todos));
+  if (!error.empty()) o.set("error", json_text(error));
+  return o;
 }
 
-std::string LightSampleTest::to_json() const {
-  JsonObject o;
-  o.raw("u", "[" + json_float(u1) + ", " + json_float(u2) + "]")
-      .vec("wi", sample.wi)
-      .flt("distance", sample.distance)
-      .flt("pdf", sample.pdf)
-      .vec("radiance", sample.radiance)
-      .flt("cos_theta", cos_theta)
-      .boolean("shadow_tested", shadow_tested);
-  if (shadow_tested) o.ray("shadow_ray", shadow_ray).boolean("blocked", blocked);
-  return o.text();
+// One line per sample: a call may take a million.
+Json LightSampleTest::json() const {
+  Json o = json_object(true);
+  o.set("u", json_pair(u1, u2))
+      .set("wi", json_vec(sample.wi))
+      .set("distance", json_float(sample.distance))
+      .set("pdf", json_float(sample.pdf))
+      .set("radiance", json_vec(sample.radiance))
+      .set("cos_theta", json_float(cos_theta))
+      .set("shadow_tested", json_bool(shadow_tested));
+  if (shadow_tested) o.set("shadow_ray", json_ray(shadow_ray)).set("blocked", json_bool(blocked));
+  return o;
 }
 
-std::string LightSamplesResult::to_json() const {
-  std::vector<std::string> items;
+Json LightSamplesResult::json() const {
+  std::vector<Json> items;
   items.reserve(samples.size());
-  for (const LightSampleTest& s : samples) items.push_back(s.to_json());
-  JsonObject o;
-  o.integer("light", light).str("light_type", light_type).vec("point", point).vec("normal", normal);
-  o.str("seed", std::to_string(seed)).raw("samples", json_array(items)).raw("todos", json_strings(todos));
-  if (!error.empty()) o.str("error", error);
-  return o.text();
+  for (const LightSampleTest& s : samples) items.push_back(s.json());
+  Json o = json_object();
+  o.set("light", json_int(light))
+      .set("light_type", json_text(light_type))
+      .set("point", json_vec(point))
+      .set("normal", json_vec(normal));
+  o.set("seed", json_seed(seed)).set("samples", json_list(std::move(items))).set("todos", json_strings(todos));
+  if (!error.empty()) o.set("error", json_text(error));
+  return o;
 }
 
 }  // namespace pt::debug

@@ -132,7 +132,7 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
   app.add_option("--seed", seed_text, "Image seed, 0 to 2^64-1 (renders are reproducible for a given seed)")
       ->type_name("N");
   app.add_option("--pfm", o->output_pfm, "Also write linear radiance to this PFM file");
-  app.add_option("--stats-json", o->stats_json, "Write the render's figures (times, rays, tests) as JSON");
+  app.add_option("--stats-json", o->stats_json, "Write the render's figures (times, rays, tests, largest radiance) as JSON");
   app.add_option("--bvh-leaf", o->bvh_max_leaf, "Most primitives per BVH leaf")->check(CLI::Range(1, 255))->default_val(4);
   app.add_option("--bvh-bins", o->bvh_bins, "SAH bins per axis when building the BVH")->check(CLI::Range(2, 64))->default_val(12);
   bool no_rr = false;

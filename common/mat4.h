@@ -1,6 +1,7 @@
 // 4x4 affine transforms in double precision, column-vector convention
 // (p' = M * p), stored row-major like COLLADA's <matrix>.
 #pragma once
+#include "math_constants.h"
 #include "vec3.h"
 
 namespace pt {
@@ -28,7 +29,7 @@ struct Mat4 {
   // Right-handed rotation by `degrees` about `axis` (need not be unit length).
   static Mat4 rotate(const Vec3d& axis, double degrees) {
     const Vec3d a = normalize(axis);
-    const double th = degrees * 3.14159265358979323846 / 180.0;
+    const double th = degrees * kPiDouble / 180.0;
     const double c = std::cos(th), s = std::sin(th), C = 1 - c;
     Mat4 r;
     r.m[0][0] = a.x * a.x * C + c;       r.m[0][1] = a.x * a.y * C - a.z * s; r.m[0][2] = a.x * a.z * C + a.y * s;

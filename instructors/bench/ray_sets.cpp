@@ -6,13 +6,13 @@
 #include <stdexcept>
 
 #include "camera_rays.h"
+#include "math_constants.h"
 #include "rng.h"
 
 namespace pt::bench {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Any two unit vectors completing `n` to a right-handed orthonormal basis.

@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/math_constants.h"
 #include "scene_model.h"
 
 namespace scenegen {
@@ -394,7 +395,7 @@ inline Box3 bounds(const IndexedMesh& m) {
 
 // Rotation about +Y by `degrees` (right-handed: +X turns toward -Z).
 inline V3 rotate_y(V3 p, double degrees) {
-  const double a = degrees * 3.14159265358979323846 / 180.0;
+  const double a = degrees * pt::kPiDouble / 180.0;
   const double c = std::cos(a), s = std::sin(a);
   // Exact for the quarter turns used most, so they add no rounding noise.
   if (std::fmod(degrees, 90.0) == 0.0) {

@@ -49,7 +49,8 @@ void configure_camera(Camera& cam, const RenderOptions& opts) {
 }
 
 RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
-                          const std::function<void(const RenderResult&)>& before_render) {
+                          const std::function<void(const RenderResult&)>& before_render,
+                          const std::function<void(int x, int y)>& after_pixel) {
   RenderResult result;
   ImageBuffer& img = result.image;
   const Camera& cam = scene.camera;
@@ -115,6 +116,7 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
       img.at(x, y) = raytrace_pixel(cam, x, y, opts.samples_per_pixel, opts.seed, radiance);
       img.samples[img.index(x, y)] = uint32_t(opts.samples_per_pixel);
     }
+    if (after_pixel) after_pixel(x, y);
   });
   result.seconds = seconds_since(t0);
   return result;

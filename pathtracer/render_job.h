@@ -27,9 +27,12 @@ void configure_camera(Camera& cam, const RenderOptions& opts);
 // Deterministic for a given opts.seed, whatever opts.threads is.
 // `before_render` is called once the acceleration structure is built and
 // before the image is allocated and the first pixel rendered (the console
-// lines use it; its RenderResult has no image yet).
+// lines use it; its RenderResult has no image yet). `after_pixel`, when
+// set, is called on the render thread right after each pixel is done (the
+// viewer reads the thread's ray counters there for its per-pixel maps).
 RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
-                          const std::function<void(const RenderResult&)>& before_render = {});
+                          const std::function<void(const RenderResult&)>& before_render = {},
+                          const std::function<void(int x, int y)>& after_pixel = {});
 
 // The render's figures as a JSON object (--stats-json).
 std::string stats_json(const Scene& scene, const RenderOptions& opts, const RenderResult& r, double load_seconds);

@@ -700,6 +700,12 @@ std::string files_json(const FileAccess& files, FileKind kind) {
   return s + "]";
 }
 
+// httplib compresses text/* and a few exact types with brotli at its
+// slowest setting when the browser accepts it: seven seconds for three.js.
+// The files are local, so compression buys nothing; this spelling of the
+// JavaScript type is not on httplib's list.
+constexpr const char* kJavaScript = "application/javascript; charset=utf-8";
+
 std::atomic<bool> g_stop{false};
 httplib::Server* g_server = nullptr;
 
@@ -776,10 +782,10 @@ int run_server(ServerConfig cfg) {
   svr.Get(R"(/web/([a-z0-9_]+)\.(js|css))", [&](const httplib::Request& req, httplib::Response& res) {
     const std::string ext = req.matches[2];
     serve_file(res, c.web_dir + "/" + std::string(req.matches[1]) + "." + ext,
-               ext == "js" ? "text/javascript; charset=utf-8" : "text/css; charset=utf-8");
+               ext == "js" ? kJavaScript : "text/css; charset=utf-8");
   });
   svr.Get("/three/three.module.js", [&](const httplib::Request&, httplib::Response& res) {
-    serve_file(res, three + "/build/three.module.js", "text/javascript; charset=utf-8");
+    serve_file(res, three + "/build/three.module.js", kJavaScript);
   });
 
   svr.Get("/api/state", guarded([&](const httplib::Request&, httplib::Response& res) {

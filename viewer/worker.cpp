@@ -24,6 +24,11 @@
 
 namespace pt::viewer {
 
+#ifdef PT_VIEWER_PLANTS
+// Outside the unnamed namespace, so that the backtrace can name it.
+__attribute__((noinline, noipa)) void planted_crash_in_render(volatile int* p) { *p = 1; }
+#endif
+
 namespace {
 
 int g_protocol_fd = -1;  // the worker's real standard output
@@ -73,8 +78,7 @@ void install_fault_handlers() {
 #ifdef PT_VIEWER_PLANTS
 // Test builds only: faults planted by the environment, to test how the
 // server reports them. PT_VIEWER_PLANT=crash dereferences a null pointer
-// in the middle of a render; =todo prints a stub's TODO line.
-__attribute__((noinline)) void planted_crash_in_render(volatile int* p) { *p = 1; }
+// in the middle of a render with --seed 13; =todo prints a stub's TODO line.
 std::string planted() {
   const char* v = std::getenv("PT_VIEWER_PLANT");
   return v ? v : "";
@@ -136,7 +140,7 @@ int run_render(const RenderOptions& base) {
       tests_per_ray[size_t(y) * w + x] = rays ? float(double(tests) / double(rays)) : 0.0f;
       last.stats = now;
 #ifdef PT_VIEWER_PLANTS
-      if (planted() == "crash" && x == w / 2 && y == h / 2) planted_crash_in_render(nullptr);
+      if (o.seed == 13 && x == w / 2 && y == h / 2 && planted() == "crash") planted_crash_in_render(nullptr);
 #endif
     };
     const RenderResult r = render_scene(scene, o, {}, after_pixel);

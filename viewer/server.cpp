@@ -28,7 +28,11 @@
 #include <httplib.h>
 
 #include "camera_file.h"
+#include "case_list.h"
 #include "collada.h"
+#include "grade.h"
+#include "pictures.h"
+#include "reference.h"
 #include "image_io.h"
 #include "json.h"
 #include "render_job.h"
@@ -587,6 +591,57 @@ std::string camera_json(const Camera& c) {
          ",\"focal_distance\":" + num(c.focal_distance) + "}";
 }
 
+// ------------------------------------------------------------------ cases
+
+// A grading case as the viewer's settings: its part and options on its
+// scene (when the page may open it).
+struct ViewerCase {
+  grader::Case c;
+  RenderOptions opts;
+  bool available = false;  // its scene is in an allowed folder
+};
+
+std::vector<ViewerCase> load_cases(const std::string& source_dir, const FileAccess& files) {
+  std::vector<ViewerCase> out;
+  std::vector<grader::Case> cases;
+  try {
+    cases = grader::read_cases(source_dir + "/grader/cases.txt");
+  } catch (const std::exception&) {
+    return out;
+  }
+  for (const grader::Case& c : cases) {
+    if (c.kind != grader::CaseKind::Image) continue;
+    std::vector<std::string> args = {"viewer", "--part", std::to_string(c.part)};
+    args.insert(args.end(), c.options.begin(), c.options.end());
+    args.push_back(source_dir + "/scenes/" + c.scene);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    ViewerCase v;
+    v.c = c;
+    if (parse_command_line(int(argv.size()), argv.data(), &v.opts)) continue;
+    std::string why;
+    const std::string scene = files.resolve(v.opts.scene_path, FileKind::Scene, &why);
+    v.available = !scene.empty();
+    if (v.available) v.opts.scene_path = scene;
+    out.push_back(v);
+  }
+  return out;
+}
+
+// What decides a render's image (not the threads, the seed or the BVH's
+// build settings): a render compares with a case when these agree.
+std::string image_key(RenderOptions o) {
+  o.threads = 1;
+  o.seed = 0;
+  o.bvh_max_leaf = 4;
+  o.bvh_bins = 12;
+  o.adaptive_set = true;
+  const std::vector<std::string> f = render_flags(o);
+  std::string k;
+  for (const std::string& a : f) k += a + " ";
+  return k;
+}
+
 // ------------------------------------------------------------------ server
 
 struct App {
@@ -595,6 +650,7 @@ struct App {
   SceneCache scenes;
   std::string temp_dir;
   std::atomic<uint64_t> camera_files{0};
+  std::vector<ViewerCase> cases;
 
   explicit App(ServerConfig c) : cfg(std::move(c)), workers(cfg.worker_exe) {}
 };
@@ -736,6 +792,7 @@ int run_server(ServerConfig cfg) {
   if (cfg.token.empty()) cfg.token = random_token();
   App app(std::move(cfg));
   const ServerConfig& c = app.cfg;
+  app.cases = load_cases(c.source_dir, c.files);
   {
     char tmpl[] = "/tmp/pt-viewer-XXXXXX";
     if (!::mkdtemp(tmpl)) {
@@ -754,6 +811,11 @@ int run_server(ServerConfig cfg) {
   httplib::Server svr;
   g_server = &svr;
   svr.set_payload_max_length(1 << 16);
+  // A browser keeps several connections open and the page long-polls on
+  // one: enough threads that an idle kept-alive connection never starves
+  // a request, and idle connections let go soon.
+  svr.new_task_queue = [] { return new httplib::ThreadPool(32); };
+  svr.set_keep_alive_timeout(2);
   svr.set_pre_routing_handler([&c](const httplib::Request& req, httplib::Response& res) {
     if (!token_ok(req, c.token)) {
       res.status = 403;
@@ -795,6 +857,13 @@ int run_server(ServerConfig cfg) {
       << ",\"cameras\":" << files_json(c.files, FileKind::Camera)
       << ",\"envs\":" << files_json(c.files, FileKind::Environment) << ",\"folders\":[";
     for (size_t i = 0; i < c.files.folders().size(); ++i) s << (i ? "," : "") << json_quote(c.files.folders()[i]);
+    s << "],\"cases\":[";
+    bool first = true;
+    for (const ViewerCase& vc : app.cases) {
+      if (!vc.available) continue;
+      s << (first ? "" : ",") << "{\"name\":" << json_quote(vc.c.name) << ",\"settings\":" << settings_json(vc.opts) << "}";
+      first = false;
+    }
     s << "],\"three\":" << (fs::exists(three + "/build/three.module.js") ? "true" : "false") << "}";
     send_json(res, s.str());
   }));
@@ -951,6 +1020,46 @@ int run_server(ServerConfig cfg) {
     res.set_header("X-Samples", std::to_string(f->samples));
     res.set_header("X-Scale", num(scale));
     res.set_header("Cache-Control", "no-store");
+  }));
+  // The grader's comparison of the job's image with a case's reference:
+  // |z| per pixel (black to white at the threshold, red beyond), as RGB
+  // rows from the top, and the grader's summary in X-Summary.
+  svr.Get("/api/diff", guarded([&](const httplib::Request& req, httplib::Response& res) {
+    auto [job, f] = job_frame(req);
+    const std::string name = req.get_param_value("case");
+    const ViewerCase* vc = nullptr;
+    for (const ViewerCase& x : app.cases)
+      if (x.c.name == name) vc = &x;
+    if (!vc) throw BadRequest("case: no grading case named '" + name + "'", 404);
+    RenderOptions shown = job->opts;
+    shown.samples_per_pixel = f->samples;
+    if (image_key(shown) != image_key(vc->opts) || job->opts.cell_set)
+      throw BadRequest("this render's settings are not case " + name + "'s: apply the case's settings first", 409);
+    grader::Reference ref;
+    std::string why;
+    if (!grader::load_reference(c.source_dir + "/reference_images", vc->c, &ref, &why))
+      throw BadRequest(name + ": " + why, 404);
+    const int w = f->width, h = f->height;
+    if (ref.mean.width != w || ref.mean.height != h) throw BadRequest(name + ": the reference is another size", 409);
+    grader::Image mine(w, h, 3);
+    const ImageBuffer img = f->image();
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int ch = 0; ch < 3; ++ch) mine.at(x, h - 1 - y, ch) = img.at(x, y)[ch];
+    int fx = 0, fy = 0;
+    if (const int bad = grader::count_non_finite(mine, &fx, &fy))
+      throw BadRequest(std::to_string(bad) + " pixels are NaN or infinite", 422);
+    const grader::ImageScore sc =
+        grader::score_image(mine, ref.mean, ref.variance, ref.runs, grader::case_score_options(vc->c, ref));
+    // Deterministic references measure |c - m| in tolerances: 1 is the limit.
+    const double threshold = sc.deterministic ? 1.0 : sc.pixel_threshold;
+    const grader::Picture pic = grader::error_picture(sc.pixel_z, w, h, threshold);
+    res.set_content(std::string(pic.rgb.begin(), pic.rgb.end()), "application/octet-stream");
+    res.set_header("X-Width", std::to_string(w));
+    res.set_header("X-Height", std::to_string(h));
+    res.set_header("X-Pass", std::to_string(f->pass));
+    res.set_header("X-Scale", num(threshold));
+    res.set_header("X-Summary", (sc.passed ? "matches the reference: " : "differs from the reference: ") + sc.summary());
   }));
   svr.Get("/api/png", guarded([&](const httplib::Request& req, httplib::Response& res) {
     auto [job, f] = job_frame(req);

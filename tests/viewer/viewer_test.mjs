@@ -245,6 +245,17 @@ cases.page_render = async () => {
     const scale = await page.evaluate(() => Number(document.getElementById('hud').dataset.scale));
     check(scale > 0, 'the tests-per-ray overlay has a scale (the most tests per ray of any pixel)', String(scale));
     await page.screenshot({path: path.join(OUT, 'overlay_tests.png')});
+
+    // The difference against the grader's reference of a case, by the
+    // grader's own statistics: this build is the reference, so it matches.
+    await page.click('#btn-whole');
+    await page.selectOption('#case', 'p1_spheres');
+    await page.click('#btn-apply-case');
+    const diff = await waitEvent(page, `e.type === 'diff' && e.case === 'p1_spheres'`);
+    check(diff.summary && diff.summary.startsWith('matches the reference'),
+          'the difference overlay scores the render against case p1_spheres\'s reference: it matches',
+          JSON.stringify(diff));
+    await page.screenshot({path: path.join(OUT, 'overlay_diff.png')});
     check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
   } finally {
     await b.close();

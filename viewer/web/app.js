@@ -113,6 +113,7 @@ function settingsChanged() {
     viewer.cell = null;
   }
   if (before && (before.width !== viewer.settings.width || before.height !== viewer.settings.height)) viewer.cell = null;
+  fillCases();
   clearTimeout(restartTimer);
   restartTimer = setTimeout(() => {
     loadScene();
@@ -146,6 +147,12 @@ function sizeCanvases(w, h) {
     canvas.height = overlayCanvas.height = h;
     ctx.fillStyle = '#000';
     ctx.fillRect(0, 0, w, h);
+  }
+  // Small renders are shown enlarged by a whole factor (pixels stay square).
+  const k = Math.max(1, Math.floor(Math.min(720 / w, 540 / h)));
+  for (const c of [canvas, overlayCanvas]) {
+    c.style.width = `${w * k}px`;
+    c.style.height = `${h * k}px`;
   }
 }
 
@@ -223,6 +230,7 @@ async function poll(job) {
     showJobMessages(st);
     if (st.state !== 'running') {
       $('btn-stop').textContent = 'Restart';
+      if (viewer.overlay === 'diff') await drawOverlay();
       viewer.events.push({type: 'end', job, state: st.state, message: st.message, samples: st.frame && st.frame.samples});
       document.body.dataset.render = st.state;
       return;
@@ -255,15 +263,71 @@ function hud(st) {
 async function drawOverlay() {
   octx.clearRect(0, 0, overlayCanvas.width, overlayCanvas.height);
   overlayCanvas.style.opacity = $('overlay-opacity').value / 100;
+  $('overlay-note').textContent = '';
   if (!viewer.overlay) return;
+  if (viewer.overlay === 'diff') return drawDiff();
   const job = viewer.overlay === 'normals' ? viewer.normalsJob : viewer.job;
   if (!job) return;
   try {
     const f = await fetchImage(job, viewer.overlay === 'normals' ? 'render' : viewer.overlay);
-    if (f.w === overlayCanvas.width && f.h === overlayCanvas.height) octx.putImageData(f.img, 0, 0);
+    // The render's maps cover its cell only; the normals, the whole image.
+    const cell = viewer.overlay === 'normals' ? null : viewer.renderCell;
+    if (f.w === overlayCanvas.width && f.h === overlayCanvas.height) drawFrame(octx, f, cell);
     if (viewer.overlay === 'tests') $('hud').dataset.scale = f.scale;
   } catch (e) { /* no frame yet */ }
 }
+
+// The grader's own comparison of the finished render with a case's
+// reference (its committed mean and variance): |z| per pixel.
+async function drawDiff() {
+  const name = $('case').value;
+  if (!name || !viewer.job) {
+    $('overlay-note').textContent = 'Pick a grading case (its settings must be the render\'s).';
+    return;
+  }
+  if (!viewer.status || viewer.status.state !== 'done') {
+    $('overlay-note').textContent = 'The difference is drawn when the render is done.';
+    return;
+  }
+  try {
+    const res = await api(`/api/diff?job=${viewer.job}&case=${encodeURIComponent(name)}`);
+    const w = Number(res.headers.get('X-Width')), h = Number(res.headers.get('X-Height'));
+    const rgb = new Uint8Array(await res.arrayBuffer());
+    const img = new ImageData(w, h);
+    for (let i = 0; i < w * h; ++i) {
+      img.data.set([rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2], 255], 4 * i);
+    }
+    octx.putImageData(img, 0, 0);
+    const summary = res.headers.get('X-Summary');
+    $('overlay-note').textContent = `${name}: ${summary} (|z| per pixel, black 0 to white at the threshold, red beyond)`;
+    viewer.events.push({type: 'diff', case: name, summary});
+  } catch (e) {
+    $('overlay-note').textContent = e.message;
+    viewer.events.push({type: 'diff', case: name, error: e.message});
+  }
+}
+
+function fillCases() {
+  const sel = $('case'), scene = viewer.settings && viewer.settings.scene;
+  const mine = (viewer.cases || []).filter((c) => c.settings.scene === scene);
+  const prev = sel.value;
+  sel.innerHTML = '';
+  sel.add(new Option(mine.length ? '(pick a case)' : '(no case on this scene)', ''));
+  for (const c of mine) sel.add(new Option(c.name, c.name));
+  if (mine.some((c) => c.name === prev)) sel.value = prev;
+}
+
+$('btn-apply-case').addEventListener('click', () => {
+  const c = (viewer.cases || []).find((x) => x.name === $('case').value);
+  if (!c) return;
+  const keep = {threads: viewer.settings.threads, seed: viewer.settings.seed};
+  fillForm(Object.assign({}, c.settings, keep));
+  viewer.cell = null;
+  viewer.camera = null;
+  $('overlay').value = viewer.overlay = 'diff';
+  settingsChanged();
+});
+$('case').addEventListener('change', () => { if (viewer.overlay === 'diff') drawOverlay(); });
 
 async function startNormals() {
   try {
@@ -416,8 +480,11 @@ async function main() {
   fillSelect(form.elements.env, st.envs, st.start.env, '(none)');
   fillForm(st.start);
   viewer.settings = readForm();
+  viewer.cases = st.cases;
+  fillCases();
   await loadScene();
+  // Ready once the first render has its job (the tests wait on it).
+  await startRender();
   document.body.dataset.ready = '1';
-  startRender();
 }
 main();

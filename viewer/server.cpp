@@ -901,10 +901,28 @@ int run_server(ServerConfig cfg) {
     } catch (const std::exception& e) {
       throw BadRequest(e.what(), 422);
     }
-    // uint32 triangles, uint32 spheres, then 9 floats per triangle and
-    // 4 (centre, radius) per sphere.
+    // uint32 triangles, uint32 spheres, then 9 floats per triangle,
+    // 4 (centre, radius) per sphere, and an RGB byte triple per triangle
+    // and per sphere: the material's colour (emission scaled to 1, else
+    // the diffuse albedo).
     const uint32_t nt = uint32_t(scene->triangles.size()), ns = uint32_t(scene->spheres.size());
     std::string body(8 + size_t(nt) * 36 + size_t(ns) * 16, '\0');
+    std::string colours;
+    auto colour = [&](int material) {
+      Color c(0.5f);
+      if (material >= 0 && size_t(material) < scene->materials.size()) {
+        const Material& m = scene->materials[size_t(material)];
+        if (m.is_emissive()) {
+          const float k = std::max({m.emission.x, m.emission.y, m.emission.z});
+          c = m.emission / k;
+        } else {
+          c = m.albedo;
+        }
+      }
+      for (int ch = 0; ch < 3; ++ch) colours.push_back(char(std::lround(255 * std::clamp(c[ch], 0.0f, 1.0f))));
+    };
+    for (const Triangle& t : scene->triangles) colour(t.material);
+    for (const Sphere& sp : scene->spheres) colour(sp.material);
     char* p = body.data();
     std::memcpy(p, &nt, 4);
     std::memcpy(p + 4, &ns, 4);
@@ -919,6 +937,7 @@ int run_server(ServerConfig cfg) {
       std::memcpy(p, v, 16);
       p += 16;
     }
+    body += colours;
     res.set_content(body, "application/octet-stream");
   }));
 

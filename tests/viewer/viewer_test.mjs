@@ -461,6 +461,74 @@ cases.crash_reported = async () => {
   }
 };
 
+// One screenshot per mode at a realistic size (the README's pictures:
+// --publish DIR copies them there), and the 3D views draw something.
+cases.screenshots = async () => {
+  const v = await startViewer(args.viewer, ['-r', '480', '360', '-s', '16', '-l', '1', '-m', '3', '-t', '2',
+                                            path.join(args.scenes, 'CBbunny.dae')]);
+  const b = await openBrowser();
+  const shots = [];
+  const shoot = async (name) => {
+    const file = path.join(OUT, name);
+    await b.page.screenshot({path: file, clip: {x: 0, y: 0, width: 1280, height: 860}});
+    shots.push(file);
+  };
+  // The WebGL canvas's pixels that are not the background.
+  const drawn = () => b.page.evaluate(() => {
+    const c = document.getElementById('three-canvas');
+    const g = document.createElement('canvas');
+    g.width = c.width;
+    g.height = c.height;
+    const x = g.getContext('2d');
+    x.drawImage(c, 0, 0);
+    const d = x.getImageData(0, 0, g.width, g.height).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - 0x15) + Math.abs(d[i + 1] - 0x16) + Math.abs(d[i + 2] - 0x1a) > 30) ++n;
+    return n / (d.length / 4);
+  });
+  try {
+    const {page} = b;
+    await page.goto(v.url);
+    await page.waitForFunction(() => document.body.dataset.ready === '1');
+    const end = await renderEnd(page, await lastJob(page));
+    check(end.state === 'done', 'the render finishes');
+    await shoot('render_mode.png');
+    await page.selectOption('#overlay', 'tests');
+    await page.waitForFunction(() => document.getElementById('hud').dataset.scale !== undefined);
+    await shoot('render_overlay_tests.png');
+    await page.selectOption('#overlay', '');
+    await page.keyboard.press('e');
+    await page.waitForFunction(() => document.body.dataset.view3d === 'camera', null, {timeout: 60000});
+    const camDrawn = await drawn();
+    check(camDrawn > 0.2, 'the camera view draws the scene (WebGL in headless Chromium)', String(camDrawn));
+    await shoot('camera_mode.png');
+    await page.keyboard.press('v');
+    await page.waitForFunction(() => document.body.dataset.view3d === 'bvh' && document.body.dataset.bvhNode === '0',
+                               null, {timeout: 60000});
+    for (const k of ['<', '<']) {
+      const before = await page.evaluate(() => document.body.dataset.bvhNode);
+      await page.keyboard.press(k);
+      await page.waitForFunction((n) => document.body.dataset.bvhNode !== n, before);
+    }
+    check(await drawn() > 0.2, 'the BVH view draws the scene and the boxes');
+    await shoot('bvh_mode.png');
+    await page.keyboard.press('?');
+    await page.keyboard.press('?');
+    await page.waitForFunction(() => document.body.dataset.bvhNode === '0');
+    await page.fill('#depth-slider', '6');
+    await page.dispatchEvent('#depth-slider', 'input');
+    await shoot('bvh_depth.png');
+    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
+    if (args.publish) {
+      fs.mkdirSync(args.publish, {recursive: true});
+      for (const f of shots) fs.copyFileSync(f, path.join(args.publish, path.basename(f)));
+    }
+  } finally {
+    await b.close();
+    await stopViewer(v);
+  }
+};
+
 // Not a test: timings for the report.
 async function measure() {
   const results = {};

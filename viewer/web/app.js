@@ -273,7 +273,14 @@ async function drawOverlay() {
     // The render's maps cover its cell only; the normals, the whole image.
     const cell = viewer.overlay === 'normals' ? null : viewer.renderCell;
     if (f.w === overlayCanvas.width && f.h === overlayCanvas.height) drawFrame(octx, f, cell);
-    if (viewer.overlay === 'tests') $('hud').dataset.scale = f.scale;
+    if (viewer.overlay === 'tests') {
+      $('hud').dataset.scale = f.scale;
+      $('overlay-note').textContent = `intersection tests per ray: blue 0, green ${fmt(f.scale / 2)}, red ${fmt(f.scale)}`;
+    } else if (viewer.overlay === 'rate') {
+      $('overlay-note').textContent = 'samples taken / samples per pixel: blue 0, green 0.5, red 1';
+    } else {
+      $('overlay-note').textContent = 'normals (part 2 shading, 1 sample per pixel)';
+    }
   } catch (e) { /* no frame yet */ }
 }
 

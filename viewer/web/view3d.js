@@ -25,9 +25,12 @@ export function create(viewer, hooks) {
   };
   const groups = {camera: new THREE.Group(), bvh: new THREE.Group()};
   scene.add(groups.camera, groups.bvh);
-  const baseMaterial = new THREE.MeshLambertMaterial({color: 0xb8b8b8});
-  const dimMaterial = new THREE.MeshLambertMaterial({color: 0x777777});
-  const hiMaterial = new THREE.MeshLambertMaterial({color: 0xff9a2e, polygonOffset: true,
+  // Both sides: the Cornell boxes are seen from inside.
+  const side = THREE.DoubleSide;
+  const baseMaterial = new THREE.MeshLambertMaterial({vertexColors: true, side});
+  const sphereMaterial = (rgb) => new THREE.MeshLambertMaterial({color: new THREE.Color(...rgb), side});
+  const dimMaterial = new THREE.MeshLambertMaterial({color: 0x6a6a6a, side});
+  const hiMaterial = new THREE.MeshLambertMaterial({color: 0xff9a2e, polygonOffset: true, side,
                                                     polygonOffsetFactor: -1, polygonOffsetUnits: -1});
 
   // ------------------------------------------------------------ drawing
@@ -47,7 +50,7 @@ export function create(viewer, hooks) {
 
   function fitCanvas() {
     const s = viewer.settings;
-    const maxW = Math.max(320, Math.min(960, window.innerWidth - 320)), maxH = 720;
+    const maxW = Math.max(320, Math.min(960, window.innerWidth - 320)), maxH = Math.max(240, window.innerHeight - 160);
     const k = Math.min(maxW / s.width, maxH / s.height);
     const w = Math.round(s.width * k), h = Math.round(s.height * k);
     renderer.setSize(w, h, true);
@@ -79,14 +82,21 @@ export function create(viewer, hooks) {
     const nt = head[0], ns = head[1];
     const tris = new Float32Array(buf, 8, nt * 9);
     const sph = new Float32Array(buf, 8 + nt * 36, ns * 4);
+    const rgb = new Uint8Array(buf, 8 + nt * 36 + ns * 16, (nt + ns) * 3);
     groups.camera.clear();
     const geo = new THREE.BufferGeometry();
     geo.setAttribute('position', new THREE.BufferAttribute(tris, 3));
+    const colors = new Float32Array(nt * 9);
+    for (let t = 0; t < nt; ++t) {
+      for (let k = 0; k < 3; ++k) colors.set([rgb[3 * t] / 255, rgb[3 * t + 1] / 255, rgb[3 * t + 2] / 255], 9 * t + 3 * k);
+    }
+    geo.setAttribute('color', new THREE.BufferAttribute(colors, 3));
     geo.computeVertexNormals();
     groups.camera.add(new THREE.Mesh(geo, baseMaterial));
     const sphereGeo = new THREE.SphereGeometry(1, 32, 16);
     for (let i = 0; i < ns; ++i) {
-      const m = new THREE.Mesh(sphereGeo, baseMaterial);
+      const c = 3 * (nt + i);
+      const m = new THREE.Mesh(sphereGeo, sphereMaterial([rgb[c] / 255, rgb[c + 1] / 255, rgb[c + 2] / 255]));
       m.position.set(sph[4 * i], sph[4 * i + 1], sph[4 * i + 2]);
       m.scale.setScalar(sph[4 * i + 3]);
       groups.camera.add(m);

@@ -470,7 +470,7 @@ cases.screenshots = async () => {
   const shots = [];
   const shoot = async (name) => {
     const file = path.join(OUT, name);
-    await b.page.screenshot({path: file, clip: {x: 0, y: 0, width: 1280, height: 860}});
+    await b.page.screenshot({path: file, type: 'jpeg', quality: 82, clip: {x: 0, y: 0, width: 1280, height: 860}});
     shots.push(file);
   };
   // The WebGL canvas's pixels that are not the background.
@@ -492,16 +492,16 @@ cases.screenshots = async () => {
     await page.waitForFunction(() => document.body.dataset.ready === '1');
     const end = await renderEnd(page, await lastJob(page));
     check(end.state === 'done', 'the render finishes');
-    await shoot('render_mode.png');
+    await shoot('render_mode.jpg');
     await page.selectOption('#overlay', 'tests');
     await page.waitForFunction(() => document.getElementById('hud').dataset.scale !== undefined);
-    await shoot('render_overlay_tests.png');
+    await shoot('render_overlay_tests.jpg');
     await page.selectOption('#overlay', '');
     await page.keyboard.press('e');
     await page.waitForFunction(() => document.body.dataset.view3d === 'camera', null, {timeout: 60000});
     const camDrawn = await drawn();
     check(camDrawn > 0.2, 'the camera view draws the scene (WebGL in headless Chromium)', String(camDrawn));
-    await shoot('camera_mode.png');
+    await shoot('camera_mode.jpg');
     await page.keyboard.press('v');
     await page.waitForFunction(() => document.body.dataset.view3d === 'bvh' && document.body.dataset.bvhNode === '0',
                                null, {timeout: 60000});
@@ -511,13 +511,13 @@ cases.screenshots = async () => {
       await page.waitForFunction((n) => document.body.dataset.bvhNode !== n, before);
     }
     check(await drawn() > 0.2, 'the BVH view draws the scene and the boxes');
-    await shoot('bvh_mode.png');
+    await shoot('bvh_mode.jpg');
     await page.keyboard.press('?');
     await page.keyboard.press('?');
     await page.waitForFunction(() => document.body.dataset.bvhNode === '0');
     await page.fill('#depth-slider', '6');
     await page.dispatchEvent('#depth-slider', 'input');
-    await shoot('bvh_depth.png');
+    await shoot('bvh_depth.jpg');
     check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
     if (args.publish) {
       fs.mkdirSync(args.publish, {recursive: true});

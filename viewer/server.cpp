@@ -1,6 +1,7 @@
 #include "server.h"
 
 #include <cxxabi.h>
+#include <cerrno>
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -166,7 +167,19 @@ Request read_request(const Json& j, const RenderOptions& start, const FileAccess
   o.height = int(r.number("height", 1, 16384, start.height, true));
   if ((long long)o.width * o.height > kMaxImagePixels)
     throw BadRequest("width x height: at most " + std::to_string(kMaxImagePixels) + " pixels");
-  o.seed = uint64_t(r.number("seed", 0, 9007199254740991.0, double(start.seed), true));
+  // A seed beyond 2^53 does not survive a JSON number: it may come as a string.
+  if (const Json* sd = j.get("seed"); sd && sd->type == Json::Type::String) {
+    const std::string& t = sd->string;
+    errno = 0;
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(t.c_str(), &end, 10);
+    if (t.empty() || t.size() > 20 || t.find_first_not_of("0123456789") != std::string::npos || errno == ERANGE ||
+        *end != '\0')
+      throw BadRequest("seed: expected an integer from 0 to 18446744073709551615");
+    o.seed = v;
+  } else {
+    o.seed = uint64_t(r.number("seed", 0, 9007199254740991.0, double(start.seed), true));
+  }
   o.bvh_max_leaf = int(r.number("bvh_leaf", 1, 255, start.bvh_max_leaf, true));
   o.bvh_bins = int(r.number("bvh_bins", 2, 64, start.bvh_bins, true));
   if (const Json* c = j.get("cell"); c && c->type != Json::Type::Null) {
@@ -242,9 +255,15 @@ std::string settings_json(const RenderOptions& o) {
     << ",\"adaptive_batch\":" << o.adaptive_batch << ",\"adaptive_tolerance\":" << num(o.adaptive_tolerance)
     << ",\"lens_radius\":" << (o.lens_radius_set ? num(o.lens_radius) : "null")
     << ",\"focal_distance\":" << (o.focal_distance_set ? num(o.focal_distance) : "null")
-    << ",\"width\":" << o.width << ",\"height\":" << o.height << ",\"seed\":" << o.seed
+    << ",\"width\":" << o.width << ",\"height\":" << o.height << ",\"seed\":"
+    << (o.seed > 9007199254740991ull ? json_quote(std::to_string(o.seed)) : std::to_string(o.seed))
     << ",\"bvh_leaf\":" << o.bvh_max_leaf << ",\"bvh_bins\":" << o.bvh_bins
-    << ",\"camera_file\":" << json_quote(o.camera_settings) << ",\"env\":" << json_quote(o.env_map) << "}";
+    << ",\"camera_file\":" << json_quote(o.camera_settings) << ",\"env\":" << json_quote(o.env_map) << ",\"cell\":";
+  if (o.cell_set)
+    s << "[" << o.cell_x << "," << o.cell_y << "," << o.cell_w << "," << o.cell_h << "]";
+  else
+    s << "null";
+  s << "}";
   return s.str();
 }
 
@@ -276,7 +295,7 @@ struct Frame {
 // One worker process and what it has said.
 struct Job {
   uint64_t id = 0;
-  std::string kind;  // "render" or "bvh"
+  std::string kind;  // "render", "normals" (one pass of normal shading) or "bvh"
   RenderOptions opts;
   pid_t pid = -1;
 
@@ -293,6 +312,7 @@ struct Job {
   bool cancel_requested = false;
   std::string crash_signal, crash_function;
   double started = 0;
+  double last_seen = 0;  // the last status request for it
 };
 
 double now_seconds() {
@@ -358,12 +378,13 @@ class Workers {
  public:
   Workers(std::string exe) : exe_(std::move(exe)) {}
 
-  // Starts `kind` for `opts` with `flags`; a render cancels the running one.
+  // Starts a job of `kind` ("render", "normals" or "bvh") for `opts` with
+  // `flags`; a render replaces (and stops) the running render.
   std::shared_ptr<Job> start(const std::string& kind, const RenderOptions& opts, const std::vector<std::string>& flags) {
     auto job = std::make_shared<Job>();
     job->kind = kind;
     job->opts = opts;
-    job->started = now_seconds();
+    job->started = job->last_seen = now_seconds();
     {
       std::lock_guard<std::mutex> lock(mu_);
       job->id = ++next_id_;
@@ -375,7 +396,7 @@ class Workers {
       // Keep the last few jobs' results for the page; forget the rest.
       while (jobs_.size() > 8) jobs_.erase(jobs_.begin());
     }
-    std::vector<std::string> args = {exe_, "--worker", kind};
+    std::vector<std::string> args = {exe_, "--worker", kind == "bvh" ? "bvh" : "render"};
     args.insert(args.end(), flags.begin(), flags.end());
     int out[2], err[2];
     if (pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("cannot create a pipe");
@@ -432,6 +453,18 @@ class Workers {
   void stop_current() {
     std::lock_guard<std::mutex> lock(mu_);
     if (current_) cancel(current_);
+  }
+  // Stops the current render when no page has asked about it for
+  // `seconds`: a closed tab leaves no render running.
+  void stop_unwatched(double seconds) {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!current_) return;
+    bool stale;
+    {
+      std::lock_guard<std::mutex> jl(current_->mu);
+      stale = current_->state == "running" && now_seconds() - current_->last_seen > seconds;
+    }
+    if (stale) cancel(current_);
   }
   void stop_all() {
     std::lock_guard<std::mutex> lock(mu_);
@@ -975,8 +1008,7 @@ int run_server(ServerConfig cfg) {
       std::ofstream(path) << camera_settings_text(cam);
       q.opts.camera_settings = path;
     }
-    auto job = app.workers.start(kind == "bvh" ? "bvh" : "render", q.opts, render_flags(q.opts));
-    if (kind == "normals") job->kind = "normals";
+    auto job = app.workers.start(kind, q.opts, render_flags(q.opts));
     std::lock_guard<std::mutex> lock(job->mu);
     send_json(res, job_json(*job));
   };
@@ -998,8 +1030,10 @@ int run_server(ServerConfig cfg) {
     auto job = find_job(req);
     const long long after = req.has_param("after") ? (long long)param_u64(req, "after") : -1;
     std::unique_lock<std::mutex> lock(job->mu);
+    job->last_seen = now_seconds();
     job->cv.wait_for(lock, std::chrono::seconds(10),
                      [&] { return job->state != "running" || job->frames > after || g_stop; });
+    job->last_seen = now_seconds();
     send_json(res, job_json(*job));
   }));
   auto job_frame = [&](const httplib::Request& req) {
@@ -1118,7 +1152,22 @@ int run_server(ServerConfig cfg) {
   std::printf("http://127.0.0.1:%d/?token=%s\n", port, c.token.c_str());
   std::fflush(stdout);
   std::fprintf(stderr, "viewer: serving %s; Ctrl-C stops\n", c.start.scene_path.c_str());
+  // A render nobody watches (the page was closed) is stopped after 30 s.
+  std::mutex watch_mu;
+  std::condition_variable watch_cv;
+  bool watching = true;
+  std::thread watchdog([&] {
+    std::unique_lock<std::mutex> lock(watch_mu);
+    while (!watch_cv.wait_for(lock, std::chrono::seconds(5), [&] { return !watching; }))
+      app.workers.stop_unwatched(30.0);
+  });
   svr.listen_after_bind();
+  {
+    std::lock_guard<std::mutex> lock(watch_mu);
+    watching = false;
+  }
+  watch_cv.notify_all();
+  watchdog.join();
   app.workers.stop_all();
   std::error_code ec;
   fs::remove_all(app.temp_dir, ec);

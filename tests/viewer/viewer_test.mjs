@@ -115,8 +115,8 @@ async function waitEvent(page, pred, timeout = 60000) {
 }
 const lastJob = (page) => page.evaluate(() => window.viewer.job);
 
-async function renderEnd(page, job) {
-  return waitEvent(page, `e.type === 'end' && e.job === ${job}`);
+async function renderEnd(page, job, timeout) {
+  return waitEvent(page, `e.type === 'end' && e.job === ${job}`, timeout);
 }
 
 // The render canvas's pixels, as an array of RGBA bytes.
@@ -249,13 +249,36 @@ cases.page_render = async () => {
     // The difference against the grader's reference of a case, by the
     // grader's own statistics: this build is the reference, so it matches.
     await page.click('#btn-whole');
+    const beforeCase = await lastJob(page);
     await page.selectOption('#case', 'p1_spheres');
     await page.click('#btn-apply-case');
-    const diff = await waitEvent(page, `e.type === 'diff' && e.case === 'p1_spheres'`);
+    const caseRender = await waitEvent(page, `e.type === 'render' && e.job > ${beforeCase} && e.settings.width === 320`);
+    check(caseRender.settings.part === 1 && caseRender.settings.height === 240,
+          'Use case settings renders with the case\'s settings (--part 1 -r 320 240)', JSON.stringify(caseRender.settings));
+    const diff = await waitEvent(page, `e.type === 'diff' && e.job === ${caseRender.job}`);
     check(diff.summary && diff.summary.startsWith('matches the reference'),
           'the difference overlay scores the render against case p1_spheres\'s reference: it matches',
           JSON.stringify(diff));
     await page.screenshot({path: path.join(OUT, 'overlay_diff.png')});
+
+    // The normals overlay is its own small job: it neither stops nor
+    // replaces the render it is drawn over.
+    await page.selectOption('#overlay', 'normals');
+    const lastRender = await lastJob(page);
+    await page.evaluate(() => document.activeElement.blur());
+    await page.keyboard.press('r');
+    const again = await waitEvent(page, `e.type === 'render' && e.job > ${lastRender}`);
+    const againEnd = await renderEnd(page, again.job);
+    check(againEnd.state === 'done', 'a render with the normals overlay runs to the end', againEnd.state);
+    await page.waitForFunction(() => document.getElementById('overlay-note').textContent.startsWith('normals'));
+    const normalsDrawn = await page.evaluate(() => {
+      const c = document.getElementById('overlay-canvas');
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let i = 3; i < d.length; i += 4) n += d[i] > 0;
+      return n / (d.length / 4);
+    });
+    check(normalsDrawn > 0.99, 'the normals overlay covers the image', String(normalsDrawn));
     check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
   } finally {
     await b.close();
@@ -532,7 +555,7 @@ cases.screenshots = async () => {
 // Not a test: timings for the report.
 async function measure() {
   const results = {};
-  {
+  if (args.measure !== 'bvh') {
     const v = await startViewer(args.viewer, ['-r', '480', '360', '-t', '2', '-s', '64', '-l', '4', '-m', '5',
                                               SCENE()]);
     const b = await openBrowser();
@@ -544,6 +567,8 @@ async function measure() {
     results.first_frame_ms_from_page_load = Date.now() - t0;
     const end = await renderEnd(b.page, job, 600000);
     const st = await b.page.evaluate(() => window.viewer.status);
+    results.frames = await b.page.evaluate((j) => window.viewer.events.filter((e) => e.type === 'frame' && e.job === j)
+      .map((e) => ({samples: e.samples, elapsed_s: e.elapsed, pass_s: e.seconds})), job);
     results.passes = st.frame.pass + 1;
     results.render_wall_s = st.wall;
     results.passes_per_second = (st.frame.pass + 1) / st.wall;

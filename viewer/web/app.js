@@ -54,10 +54,11 @@ viewer.banner = banner;
 function todoText(todo) {
   const parts = new Map();
   for (const line of todo) {
-    const m = /^Part (\d+): (.*?) \((.*)\)$/.exec(line);
+    // "Part 2: BVH construction (stages/part2_bvh/bvh_build.cpp); using one leaf"
+    const m = /^Part (\d+): (.*?) \(([^()]*)\)(.*)$/.exec(line);
     const part = m ? m[1] : '?';
     if (!parts.has(part)) parts.set(part, []);
-    parts.get(part).push(m ? `${m[2]}, ${m[3]}` : line);
+    parts.get(part).push(m ? `${m[2]}, ${m[3]}${m[4]}` : line);
   }
   return [...parts].map(([p, fns]) => `Part ${p} not implemented (TODO: ${fns.join('; ')})`).join('\n');
 }
@@ -90,6 +91,9 @@ function readForm() {
     const v = form.elements[k].value.trim();
     s[k] = v === '' ? null : Number(v);
   }
+  // Seeds beyond 2^53 travel as text (JSON numbers would round them).
+  const seed = form.elements.seed.value.trim();
+  if (/^\d+$/.test(seed) && !Number.isSafeInteger(Number(seed))) s.seed = seed;
   s.accumulate = form.elements.accumulate.checked;
   s.hemisphere = form.elements.hemisphere.checked;
   s.scene = form.elements.scene.value;
@@ -223,7 +227,8 @@ async function poll(job) {
         if (viewer.job !== job) return;
         drawFrame(ctx, f, viewer.renderCell);
         if (viewer.overlay === 'rate' || viewer.overlay === 'tests') await drawOverlay();
-        viewer.events.push({type: 'frame', job, pass: f.pass, samples: st.frame.samples});
+        viewer.events.push({type: 'frame', job, pass: f.pass, samples: st.frame.samples,
+                            elapsed: st.frame.elapsed, seconds: st.frame.seconds});
       } catch (e) { /* a newer job replaced it */ }
     }
     hud(st);
@@ -307,10 +312,10 @@ async function drawDiff() {
     octx.putImageData(img, 0, 0);
     const summary = res.headers.get('X-Summary');
     $('overlay-note').textContent = `${name}: ${summary} (|z| per pixel, black 0 to white at the threshold, red beyond)`;
-    viewer.events.push({type: 'diff', case: name, summary});
+    viewer.events.push({type: 'diff', job: viewer.job, case: name, summary});
   } catch (e) {
     $('overlay-note').textContent = e.message;
-    viewer.events.push({type: 'diff', case: name, error: e.message});
+    viewer.events.push({type: 'diff', job: viewer.job, case: name, error: e.message});
   }
 }
 
@@ -331,8 +336,16 @@ $('btn-apply-case').addEventListener('click', () => {
   fillForm(Object.assign({}, c.settings, keep));
   viewer.cell = null;
   viewer.camera = null;
+  $('cell-box').hidden = true;
   $('overlay').value = viewer.overlay = 'diff';
-  settingsChanged();
+  // At once (not after the form's short delay), so that no earlier render
+  // ends in between and is compared with the case.
+  clearTimeout(restartTimer);
+  viewer.settings = readForm();
+  fillCases();
+  $('case').value = c.name;
+  loadScene();
+  startRender();
 });
 $('case').addEventListener('change', () => { if (viewer.overlay === 'diff') drawOverlay(); });
 
@@ -428,7 +441,7 @@ async function setMode(mode) {
   if (!viewer.view3d) {
     try {
       const m = await import('/web/view3d.js');
-      viewer.view3d = m.create(viewer, {api, banner, startRender, setMode});
+      viewer.view3d = m.create(viewer, {api, banner, startRender, setMode, todoText});
     } catch (e) {
       banner(`The 3D views need three.js: ${e.message} (run scripts/setup.sh, which installs it with npm ci)`, 'error');
       return;
@@ -488,6 +501,7 @@ async function main() {
   fillForm(st.start);
   viewer.settings = readForm();
   viewer.cases = st.cases;
+  viewer.cell = st.start.cell;  // -p on the command line
   fillCases();
   await loadScene();
   // Ready once the first render has its job (the tests wait on it).

@@ -9,7 +9,10 @@ const $ = (id) => document.getElementById(id);
 
 export function create(viewer, hooks) {
   const canvas = $('three-canvas');
-  const renderer = new THREE.WebGLRenderer({canvas, antialias: true, preserveDrawingBuffer: true});
+  // Drawn on the CPU on machines without a GPU (SwiftShader): no
+  // multisampling, and the lighting baked into vertex colours once, so that
+  // a frame costs one pass over the triangles and no per-pixel lighting.
+  const renderer = new THREE.WebGLRenderer({canvas, antialias: false, preserveDrawingBuffer: true});
   renderer.setPixelRatio(1);
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(0x15161a);
@@ -27,11 +30,32 @@ export function create(viewer, hooks) {
   scene.add(groups.camera, groups.bvh);
   // Both sides: the Cornell boxes are seen from inside.
   const side = THREE.DoubleSide;
-  const baseMaterial = new THREE.MeshLambertMaterial({vertexColors: true, side});
+  const baseMaterial = new THREE.MeshBasicMaterial({vertexColors: true, side});
   const sphereMaterial = (rgb) => new THREE.MeshLambertMaterial({color: new THREE.Color(...rgb), side});
-  const dimMaterial = new THREE.MeshLambertMaterial({color: 0x6a6a6a, side});
-  const hiMaterial = new THREE.MeshLambertMaterial({color: 0xff9a2e, polygonOffset: true, side,
-                                                    polygonOffsetFactor: -1, polygonOffsetUnits: -1});
+  // BVH mode: the vertex colours hold the shading only; the material gives the hue.
+  const dimMaterial = new THREE.MeshBasicMaterial({vertexColors: true, color: 0x8a8a8a, side});
+  const hiMaterial = new THREE.MeshBasicMaterial({vertexColors: true, color: 0xff9a2e, side});
+  const dimSphere = new THREE.MeshLambertMaterial({color: 0x6a6a6a, side});
+  const hiSphere = new THREE.MeshLambertMaterial({color: 0xff9a2e, side});
+
+  // Shading of a triangle soup, baked: 0.3 + 0.7 |n . l| for a light from
+  // above and in front, times `rgb(t)` per triangle.
+  const LIGHT = new THREE.Vector3(0.35, 0.8, 0.5).normalize();
+  function bakedColors(pos, rgb) {
+    const n = pos.length / 9, out = new Float32Array(n * 9);
+    const a = new THREE.Vector3(), b = new THREE.Vector3(), c = new THREE.Vector3();
+    for (let t = 0; t < n; ++t) {
+      a.fromArray(pos, 9 * t);
+      b.fromArray(pos, 9 * t + 3).sub(a);
+      c.fromArray(pos, 9 * t + 6).sub(a);
+      const nrm = b.cross(c);
+      const len = nrm.length();
+      const k = 0.3 + 0.7 * (len > 0 ? Math.abs(nrm.dot(LIGHT)) / len : 0);
+      const [r, g, bl] = rgb(t);
+      for (let v = 0; v < 3; ++v) out.set([r * k, g * k, bl * k], 9 * t + 3 * v);
+    }
+    return out;
+  }
 
   // ------------------------------------------------------------ drawing
 
@@ -86,12 +110,8 @@ export function create(viewer, hooks) {
     groups.camera.clear();
     const geo = new THREE.BufferGeometry();
     geo.setAttribute('position', new THREE.BufferAttribute(tris, 3));
-    const colors = new Float32Array(nt * 9);
-    for (let t = 0; t < nt; ++t) {
-      for (let k = 0; k < 3; ++k) colors.set([rgb[3 * t] / 255, rgb[3 * t + 1] / 255, rgb[3 * t + 2] / 255], 9 * t + 3 * k);
-    }
+    const colors = bakedColors(tris, (t) => [rgb[3 * t] / 255, rgb[3 * t + 1] / 255, rgb[3 * t + 2] / 255]);
     geo.setAttribute('color', new THREE.BufferAttribute(colors, 3));
-    geo.computeVertexNormals();
     groups.camera.add(new THREE.Mesh(geo, baseMaterial));
     const sphereGeo = new THREE.SphereGeometry(1, 32, 16);
     for (let i = 0; i < ns; ++i) {
@@ -107,6 +127,18 @@ export function create(viewer, hooks) {
 
   // ------------------------------------------------------------ camera controls
 
+  // While the camera moves, frames are drawn at half resolution (a quarter
+  // of the pixels); the full view comes back when it stops.
+  function moving(on) {
+    const ratio = on ? 0.5 : 1;
+    if (renderer.getPixelRatio() !== ratio) {
+      renderer.setPixelRatio(ratio);
+      fitCanvas();
+    }
+    if (!on) redraw();
+  }
+  let wheelTimer = null;
+
   let drag = null;
   canvas.addEventListener('contextmenu', (e) => e.preventDefault());
   canvas.addEventListener('mousedown', (e) => {
@@ -117,18 +149,23 @@ export function create(viewer, hooks) {
     if (!drag) return;
     const moved = Math.abs(e.clientX - drag.x0) + Math.abs(e.clientY - drag.y0);
     drag = null;
+    moving(false);
     if (moved < 4 && state.mode === 'bvh') clickBox(e);
   });
   window.addEventListener('mousemove', (e) => {
     if (!drag) return;
     const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
+    if (dx || dy) moving(true);
     drag.x = e.clientX;
     drag.y = e.clientY;
     if (drag.pan) pan(dx, dy); else orbit(dx, dy);
   });
   canvas.addEventListener('wheel', (e) => {
     e.preventDefault();
+    moving(true);
     zoom(Math.exp(e.deltaY * 0.001));
+    clearTimeout(wheelTimer);
+    wheelTimer = setTimeout(() => moving(false), 200);
   }, {passive: false});
 
   function orbit(dx, dy) {
@@ -204,16 +241,11 @@ export function create(viewer, hooks) {
     if (st.state !== 'done') {
       $('bvh-info').textContent = '';
       const lines = [st.message];
-      if (st.todo.length) lines.push(st.todo.map((t) => `TODO: ${t}`).join('\n'));
+      if (st.todo.length) lines.push(hooks.todoText(st.todo));
       hooks.banner(lines.filter(Boolean).join('\n'), 'error');
       return null;
     }
-    if (st.todo.length) {
-      hooks.banner(st.todo.map((t) => {
-        const m = /^Part (\d+): (.*?) \((.*)\)$/.exec(t);
-        return m ? `Part ${m[1]} not implemented (TODO: ${m[2]}, ${m[3]})` : t;
-      }).join('\n'), 'todo');
-    }
+    if (st.todo.length) hooks.banner(hooks.todoText(st.todo), 'todo');
     const res = await hooks.api(`/api/bvh-data?job=${st.job}`);
     const buf = await res.arrayBuffer();
     const headLen = new Uint32Array(buf, 0, 1)[0];
@@ -301,20 +333,18 @@ export function create(viewer, hooks) {
     groups.bvh.clear();
     const geo = new THREE.BufferGeometry();
     geo.setAttribute('position', new THREE.BufferAttribute(pos, 3));
-    geo.computeVertexNormals();
-    groups.bvh.add(new THREE.Mesh(geo, dimMaterial));
-    // Its own geometry over the same vertices: the draw range is its own.
-    const hiGeo = new THREE.BufferGeometry();
-    hiGeo.setAttribute('position', geo.getAttribute('position'));
-    hiGeo.setAttribute('normal', geo.getAttribute('normal'));
-    bvh.highlight = new THREE.Mesh(hiGeo, hiMaterial);
+    geo.setAttribute('color', new THREE.BufferAttribute(bakedColors(pos, () => [1, 1, 1]), 3));
+    // One mesh, each triangle drawn once: the node's range (orange) and the
+    // rest (grey) are two groups of the same buffer.
+    bvh.highlight = new THREE.Mesh(geo, [dimMaterial, hiMaterial]);
+    bvh.triangles = count;
     groups.bvh.add(bvh.highlight);
     bvh.spheres = [];
     for (let k = 0; k < bvh.prims.length; ++k) {
       const id = bvh.prims[k];
       if (id < nt) continue;
       const s = id - nt;
-      const m = new THREE.Mesh(state.meshes.sphereGeo, dimMaterial);
+      const m = new THREE.Mesh(state.meshes.sphereGeo, dimSphere);
       m.position.set(sph[4 * s], sph[4 * s + 1], sph[4 * s + 2]);
       m.scale.setScalar(sph[4 * s + 3]);
       m.userData.entry = k;
@@ -365,10 +395,14 @@ export function create(viewer, hooks) {
       bvh.boxes.add(boxLines(bvh, [kids[1]], 0x4da6ff));
     }
     const t0 = bvh.triBefore[bvh.lo[i]], t1 = bvh.triBefore[bvh.hi[i]];
-    bvh.highlight.geometry.setDrawRange(t0 * 3, (t1 - t0) * 3);
+    const g = bvh.highlight.geometry;
+    g.clearGroups();
+    if (t0 > 0) g.addGroup(0, t0 * 3, 0);
+    if (t1 > t0) g.addGroup(t0 * 3, (t1 - t0) * 3, 1);
+    if (bvh.triangles > t1) g.addGroup(t1 * 3, (bvh.triangles - t1) * 3, 0);
     for (const m of bvh.spheres) {
       const k = m.userData.entry;
-      m.material = k >= bvh.lo[i] && k < bvh.hi[i] ? hiMaterial : dimMaterial;
+      m.material = k >= bvh.lo[i] && k < bvh.hi[i] ? hiSphere : dimSphere;
     }
     const count = bvh.hi[i] - bvh.lo[i];
     const leaf = bvh.u[8 * i + 7] !== 0;
@@ -469,9 +503,10 @@ export function create(viewer, hooks) {
     if (state.mode) await show(state.mode);
   }
 
-  // Frame times while the camera moves: orbits by a small step per frame
+  // Frame times while the camera moves (drawn as while dragging): orbits by a small step per frame
   // for `frames` frames and returns the intervals between them (ms).
   function measure(frames) {
+    moving(true);
     return new Promise((resolve) => {
       const times = [];
       let last = 0, k = 0;
@@ -479,6 +514,7 @@ export function create(viewer, hooks) {
         if (last) times.push(t - last);
         last = t;
         if (k++ >= frames) {
+          moving(false);
           resolve(times);
           return;
         }

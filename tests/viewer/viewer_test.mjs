@@ -491,10 +491,15 @@ cases.screenshots = async () => {
                                             path.join(args.scenes, 'CBbunny.dae')]);
   const b = await openBrowser();
   const shots = [];
+  // PNG artefacts; the README's copies (--publish) as small JPEGs of the same frame.
   const shoot = async (name) => {
-    const file = path.join(OUT, name);
-    await b.page.screenshot({path: file, type: 'jpeg', quality: 82, clip: {x: 0, y: 0, width: 1280, height: 860}});
-    shots.push(file);
+    const clip = {x: 0, y: 0, width: 1280, height: 860};
+    await b.page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
+    if (args.publish) {
+      const file = path.join(OUT, name);
+      await b.page.screenshot({path: file, type: 'jpeg', quality: 82, clip});
+      shots.push(file);
+    }
   };
   // The WebGL canvas's pixels that are not the background.
   const drawn = () => b.page.evaluate(() => {

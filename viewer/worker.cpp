@@ -78,7 +78,8 @@ void install_fault_handlers() {
 #ifdef PT_VIEWER_PLANTS
 // Test builds only: faults planted by the environment, to test how the
 // server reports them. PT_VIEWER_PLANT=crash dereferences a null pointer
-// in the middle of a render with --seed 13; =todo prints a stub's TODO line.
+// in the middle of a render with --seed 13 and throws an exception there
+// with --seed 14; =todo prints a stub's TODO line.
 std::string planted() {
   const char* v = std::getenv("PT_VIEWER_PLANT");
   return v ? v : "";
@@ -141,6 +142,8 @@ int run_render(const RenderOptions& base) {
       last.stats = now;
 #ifdef PT_VIEWER_PLANTS
       if (o.seed == 13 && x == w / 2 && y == h / 2 && planted() == "crash") planted_crash_in_render(nullptr);
+      if (o.seed == 14 && x == w / 2 && y == h / 2 && planted() == "crash")
+        throw std::runtime_error("planted failure: a part threw an exception");
 #endif
     };
     const RenderResult r = render_scene(scene, o, {}, after_pixel);

@@ -477,6 +477,15 @@ cases.crash_reported = async () => {
     const nextEnd = await renderEnd(page, next.job);
     check(nextEnd.state === 'done', 'the server keeps serving: the next render finishes', nextEnd.state);
     check(!(await page.locator('#banner').isVisible()), 'the banner is gone with the crash');
+    // An exception thrown in the middle of a render: its message, and the
+    // server goes on.
+    await page.fill('input[name=seed]', '14');
+    await page.dispatchEvent('input[name=seed]', 'change');
+    const thrower = await waitEvent(page, `e.type === 'render' && e.job > ${next.job}`);
+    const thrown = await renderEnd(page, thrower.job);
+    const thrownText = await page.locator('#banner').textContent();
+    check(thrown.state === 'failed' && thrownText.includes('planted failure: a part threw an exception'),
+          'an exception in a render is reported with its message', `${thrown.state}: ${thrownText}`);
     check(v.proc.exitCode === null, 'the server process is still running');
   } finally {
     await b.close();

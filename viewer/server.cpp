@@ -934,12 +934,13 @@ int run_server(ServerConfig cfg) {
     } catch (const std::exception& e) {
       throw BadRequest(e.what(), 422);
     }
-    // uint32 triangles, uint32 spheres, then 9 floats per triangle,
+    // uint32 triangles, uint32 spheres, then 9 floats per triangle (its
+    // corners), 9 per triangle (its vertex normals, the shading normals),
     // 4 (centre, radius) per sphere, and an RGB byte triple per triangle
     // and per sphere: the material's colour (emission scaled to 1, else
     // the diffuse albedo).
     const uint32_t nt = uint32_t(scene->triangles.size()), ns = uint32_t(scene->spheres.size());
-    std::string body(8 + size_t(nt) * 36 + size_t(ns) * 16, '\0');
+    std::string body(8 + size_t(nt) * 72 + size_t(ns) * 16, '\0');
     std::string colours;
     auto colour = [&](int material) {
       Color c(0.5f);
@@ -963,6 +964,11 @@ int run_server(ServerConfig cfg) {
     for (const Triangle& t : scene->triangles) {
       const float v[9] = {t.p1.x, t.p1.y, t.p1.z, t.p2.x, t.p2.y, t.p2.z, t.p3.x, t.p3.y, t.p3.z};
       std::memcpy(p, v, 36);
+      p += 36;
+    }
+    for (const Triangle& t : scene->triangles) {
+      const float n[9] = {t.n1.x, t.n1.y, t.n1.z, t.n2.x, t.n2.y, t.n2.z, t.n3.x, t.n3.y, t.n3.z};
+      std::memcpy(p, n, 36);
       p += 36;
     }
     for (const Sphere& sp : scene->spheres) {

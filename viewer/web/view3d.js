@@ -38,24 +38,123 @@ export function create(viewer, hooks) {
   const dimSphere = new THREE.MeshLambertMaterial({color: 0x6a6a6a, side});
   const hiSphere = new THREE.MeshLambertMaterial({color: 0xff9a2e, side});
 
-  // Shading of a triangle soup, baked: 0.3 + 0.7 |n . l| for a light from
-  // above and in front, times `rgb(t)` per triangle.
-  const LIGHT = new THREE.Vector3(0.35, 0.8, 0.5).normalize();
-  function bakedColors(pos, rgb) {
-    const n = pos.length / 9, out = new Float32Array(n * 9);
-    const a = new THREE.Vector3(), b = new THREE.Vector3(), c = new THREE.Vector3();
-    for (let t = 0; t < n; ++t) {
-      a.fromArray(pos, 9 * t);
-      b.fromArray(pos, 9 * t + 3).sub(a);
-      c.fromArray(pos, 9 * t + 6).sub(a);
-      const nrm = b.cross(c);
-      const len = nrm.length();
-      const k = 0.3 + 0.7 * (len > 0 ? Math.abs(nrm.dot(LIGHT)) / len : 0);
-      const [r, g, bl] = rgb(t);
-      for (let v = 0; v < 3; ++v) out.set([r * k, g * k, bl * k], 9 * t + 3 * v);
+  // Meshes above this many triangles get a coarse copy drawn while the
+  // camera moves (software WebGL draws about 2-3 million triangles a second
+  // on these machines).
+  const COARSE_ABOVE = 60000;
+
+  // A coarse copy of an indexed mesh: vertices snapped to a grid of
+  // `cells` per side of its bounds and merged, triangles that collapse
+  // dropped, the rest kept in order. Returns the index array and, per kept
+  // triangle, its number in the full mesh.
+  function coarseIndex(geo, cells) {
+    const pos = geo.getAttribute('position').array, index = geo.index.array;
+    const nv = pos.length / 3;
+    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    for (let v = 0; v < nv; ++v) {
+      for (let k = 0; k < 3; ++k) {
+        lo[k] = Math.min(lo[k], pos[3 * v + k]);
+        hi[k] = Math.max(hi[k], pos[3 * v + k]);
+      }
     }
-    return out;
+    const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
+    const cell = (x, k) => Math.min(cells - 1, Math.floor((x - lo[k]) / size * cells));
+    const rep = new Int32Array(nv), seen = new Map();
+    for (let v = 0; v < nv; ++v) {
+      const key = (cell(pos[3 * v], 0) * cells + cell(pos[3 * v + 1], 1)) * cells + cell(pos[3 * v + 2], 2);
+      const r = seen.get(key);
+      if (r === undefined) seen.set(key, v);
+      rep[v] = r === undefined ? v : r;
+    }
+    const out = [], kept = [];
+    for (let t = 0; t < index.length / 3; ++t) {
+      const a = rep[index[3 * t]], b = rep[index[3 * t + 1]], c = rep[index[3 * t + 2]];
+      if (a !== b && b !== c && a !== c) {
+        out.push(a, b, c);
+        kept.push(t);
+      }
+    }
+    return {index: new Uint32Array(out), kept: new Uint32Array(kept)};
   }
+
+  // The coarse mesh of `full` (same vertices and material), or null for a
+  // small mesh.
+  function coarseMesh(full) {
+    const geo = full.geometry;
+    if (geo.index.count / 3 <= COARSE_ABOVE) return null;
+    const c = coarseIndex(geo, 96);
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', geo.getAttribute('position'));
+    g.setAttribute('color', geo.getAttribute('color'));
+    g.setIndex(new THREE.BufferAttribute(c.index, 1));
+    const m = new THREE.Mesh(g, full.material);
+    m.userData.kept = c.kept;
+    m.visible = false;
+    return m;
+  }
+  const coarse = {camera: null, bvh: null};  // [full, coarse] of each mode's mesh
+
+  // The baked lighting's direction: from above and in front.
+  const LIGHT = new THREE.Vector3(0.35, 0.8, 0.5).normalize();
+
+  // A triangle soup as an indexed mesh: corners with the same position,
+  // shading normal and key(triangle) become one vertex, so that each is
+  // transformed once (a smooth mesh shares each vertex among about six
+  // triangles). Its colour attribute holds the baked shade
+  // 0.3 + 0.7 |n . l| of the vertex normal; userData.owner[v] is a
+  // triangle that uses vertex v.
+  function indexedMesh(pos, nrm, key) {
+    const n = pos.length / 9, pu = new Uint32Array(pos.buffer, pos.byteOffset, pos.length);
+    const nu = new Uint32Array(nrm.buffer, nrm.byteOffset, nrm.length);
+    let cap = 1;
+    while (cap < n * 6) cap *= 2;
+    const table = new Int32Array(cap).fill(-1);
+    const outP = new Float32Array(n * 9), outN = new Float32Array(n * 9);
+    const outPU = new Uint32Array(outP.buffer), outNU = new Uint32Array(outN.buffer);
+    const owner = new Int32Array(n * 3), keys = new Int32Array(n * 3);
+    const index = new Uint32Array(n * 3);
+    let count = 0;
+    for (let c = 0; c < n * 3; ++c) {
+      const t = (c / 3) | 0, kt = key(t);
+      const a = pu[3 * c], b = pu[3 * c + 1], d = pu[3 * c + 2];
+      const e = nu[3 * c], f = nu[3 * c + 1], g = nu[3 * c + 2];
+      let h = Math.imul(a ^ Math.imul(b, 0x85ebca6b) ^ Math.imul(d, 0xc2b2ae35), 0x9e3779b1);
+      h = Math.imul(h ^ e ^ Math.imul(f, 0x27d4eb2f) ^ Math.imul(g, 0x165667b1) ^ kt, 0x9e3779b1);
+      let slot = (h >>> 7) & (cap - 1);
+      for (;;) {
+        const v = table[slot];
+        if (v < 0) {
+          table[slot] = count;
+          outPU.set([a, b, d], 3 * count);
+          outNU.set([e, f, g], 3 * count);
+          owner[count] = t;
+          keys[count] = kt;
+          index[c] = count++;
+          break;
+        }
+        if (outPU[3 * v] === a && outPU[3 * v + 1] === b && outPU[3 * v + 2] === d && outNU[3 * v] === e &&
+            outNU[3 * v + 1] === f && outNU[3 * v + 2] === g && keys[v] === kt) {
+          index[c] = v;
+          break;
+        }
+        slot = (slot + 1) & (cap - 1);
+      }
+    }
+    const shade = new Float32Array(count * 3);
+    for (let v = 0; v < count; ++v) {
+      const x = outN[3 * v], y = outN[3 * v + 1], z = outN[3 * v + 2];
+      const len = Math.hypot(x, y, z);
+      const k = 0.3 + 0.7 * (len > 0 ? Math.abs(x * LIGHT.x + y * LIGHT.y + z * LIGHT.z) / len : 0);
+      shade.set([k, k, k], 3 * v);
+    }
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute('position', new THREE.BufferAttribute(outP.slice(0, count * 3), 3));
+    geo.setAttribute('color', new THREE.BufferAttribute(shade, 3));
+    geo.setIndex(new THREE.BufferAttribute(index, 1));
+    geo.userData.owner = owner.subarray(0, count);
+    return geo;
+  }
+
 
   // ------------------------------------------------------------ drawing
 
@@ -105,14 +204,23 @@ export function create(viewer, hooks) {
     const head = new Uint32Array(buf, 0, 2);
     const nt = head[0], ns = head[1];
     const tris = new Float32Array(buf, 8, nt * 9);
-    const sph = new Float32Array(buf, 8 + nt * 36, ns * 4);
-    const rgb = new Uint8Array(buf, 8 + nt * 36 + ns * 16, (nt + ns) * 3);
+    const nrms = new Float32Array(buf, 8 + nt * 36, nt * 9);
+    const sph = new Float32Array(buf, 8 + nt * 72, ns * 4);
+    const rgb = new Uint8Array(buf, 8 + nt * 72 + ns * 16, (nt + ns) * 3);
     groups.camera.clear();
-    const geo = new THREE.BufferGeometry();
-    geo.setAttribute('position', new THREE.BufferAttribute(tris, 3));
-    const colors = bakedColors(tris, (t) => [rgb[3 * t] / 255, rgb[3 * t + 1] / 255, rgb[3 * t + 2] / 255]);
-    geo.setAttribute('color', new THREE.BufferAttribute(colors, 3));
-    groups.camera.add(new THREE.Mesh(geo, baseMaterial));
+    const geo = indexedMesh(tris, nrms, (t) => (rgb[3 * t] << 16) | (rgb[3 * t + 1] << 8) | rgb[3 * t + 2]);
+    const colors = geo.getAttribute('color').array;
+    // The shade times the triangle's colour (vertices are shared only
+    // within one colour).
+    for (let v = 0; v < geo.userData.owner.length; ++v) {
+      const t = geo.userData.owner[v];
+      for (let k = 0; k < 3; ++k) colors[3 * v + k] *= rgb[3 * t + k] / 255;
+    }
+    const full = new THREE.Mesh(geo, baseMaterial);
+    groups.camera.add(full);
+    const lod = coarseMesh(full);
+    coarse.camera = lod ? [full, lod] : null;
+    if (lod) groups.camera.add(lod);
     const sphereGeo = new THREE.SphereGeometry(1, 32, 16);
     for (let i = 0; i < ns; ++i) {
       const c = 3 * (nt + i);
@@ -121,7 +229,7 @@ export function create(viewer, hooks) {
       m.scale.setScalar(sph[4 * i + 3]);
       groups.camera.add(m);
     }
-    state.meshes = {tris, sph, nt, ns, sphereGeo};
+    state.meshes = {tris, nrms, rgb, sph, nt, ns, sphereGeo};
     state.sceneKey = key;
   }
 
@@ -130,6 +238,11 @@ export function create(viewer, hooks) {
   // While the camera moves, frames are drawn at half resolution (a quarter
   // of the pixels); the full view comes back when it stops.
   function moving(on) {
+    for (const pair of [coarse.camera, coarse.bvh]) {
+      if (!pair) continue;
+      pair[0].visible = !on;
+      pair[1].visible = on;
+    }
     const ratio = on ? 0.5 : 1;
     if (renderer.getPixelRatio() !== ratio) {
       renderer.setPixelRatio(ratio);
@@ -323,22 +436,26 @@ export function create(viewer, hooks) {
       if (bvh.prims[k] < nt) ++count;
     }
     triBefore[bvh.prims.length] = count;
-    const pos = new Float32Array(count * 9);
+    const pos = new Float32Array(count * 9), nrm = new Float32Array(count * 9);
     let t = 0;
     for (let k = 0; k < bvh.prims.length; ++k) {
       const id = bvh.prims[k];
-      if (id < nt) pos.set(tris.subarray(9 * id, 9 * id + 9), 9 * t++);
+      if (id < nt) {
+        pos.set(tris.subarray(9 * id, 9 * id + 9), 9 * t);
+        nrm.set(state.meshes.nrms.subarray(9 * id, 9 * id + 9), 9 * t++);
+      }
     }
     bvh.triBefore = triBefore;
     groups.bvh.clear();
-    const geo = new THREE.BufferGeometry();
-    geo.setAttribute('position', new THREE.BufferAttribute(pos, 3));
-    geo.setAttribute('color', new THREE.BufferAttribute(bakedColors(pos, () => [1, 1, 1]), 3));
+    const geo = indexedMesh(pos, nrm, () => 0);
     // One mesh, each triangle drawn once: the node's range (orange) and the
     // rest (grey) are two groups of the same buffer.
     bvh.highlight = new THREE.Mesh(geo, [dimMaterial, hiMaterial]);
     bvh.triangles = count;
     groups.bvh.add(bvh.highlight);
+    bvh.coarse = coarseMesh(bvh.highlight);
+    coarse.bvh = bvh.coarse ? [bvh.highlight, bvh.coarse] : null;
+    if (bvh.coarse) groups.bvh.add(bvh.coarse);
     bvh.spheres = [];
     for (let k = 0; k < bvh.prims.length; ++k) {
       const id = bvh.prims[k];
@@ -395,11 +512,27 @@ export function create(viewer, hooks) {
       bvh.boxes.add(boxLines(bvh, [kids[1]], 0x4da6ff));
     }
     const t0 = bvh.triBefore[bvh.lo[i]], t1 = bvh.triBefore[bvh.hi[i]];
-    const g = bvh.highlight.geometry;
-    g.clearGroups();
-    if (t0 > 0) g.addGroup(0, t0 * 3, 0);
-    if (t1 > t0) g.addGroup(t0 * 3, (t1 - t0) * 3, 1);
-    if (bvh.triangles > t1) g.addGroup(t1 * 3, (bvh.triangles - t1) * 3, 0);
+    const setGroups = (g, a, b, n) => {
+      g.clearGroups();
+      if (a > 0) g.addGroup(0, a * 3, 0);
+      if (b > a) g.addGroup(a * 3, (b - a) * 3, 1);
+      if (n > b) g.addGroup(b * 3, (n - b) * 3, 0);
+    };
+    setGroups(bvh.highlight.geometry, t0, t1, bvh.triangles);
+    if (bvh.coarse) {
+      // The coarse mesh keeps the triangles' order: the node's range is
+      // where its kept triangles fall.
+      const kept = bvh.coarse.userData.kept;
+      const first = (t) => {
+        let l = 0, h = kept.length;
+        while (l < h) {
+          const m = (l + h) >> 1;
+          if (kept[m] < t) l = m + 1; else h = m;
+        }
+        return l;
+      };
+      setGroups(bvh.coarse.geometry, first(t0), first(t1), kept.length);
+    }
     for (const m of bvh.spheres) {
       const k = m.userData.entry;
       m.material = k >= bvh.lo[i] && k < bvh.hi[i] ? hiSphere : dimSphere;
@@ -508,20 +641,25 @@ export function create(viewer, hooks) {
   function measure(frames) {
     moving(true);
     return new Promise((resolve) => {
-      const times = [];
+      const times = [], draws = [];
+      times.draws = draws;
       let last = 0, k = 0;
       const step = (t) => {
         if (last) times.push(t - last);
         last = t;
         if (k++ >= frames) {
+          const drawn = renderer.info.render.triangles;
           moving(false);
-          resolve(times);
+          resolve({frames: times, draws, triangles: drawn});
           return;
         }
         const offset = camera.position.clone().sub(state.target).applyAxisAngle(camera.up, 0.01);
         camera.position.copy(state.target).add(offset);
         camera.lookAt(state.target);
+        const t0 = performance.now();
         renderer.render(scene, camera);
+        renderer.getContext().finish();
+        draws.push(performance.now() - t0);
         requestAnimationFrame(step);
       };
       requestAnimationFrame(step);
@@ -533,6 +671,6 @@ export function create(viewer, hooks) {
     box: (i) => (state.bvh ? box(state.bvh, i) : null),
     nodeInfo: (i) => (state.bvh ? {box: box(state.bvh, i), primitives: state.bvh.hi[i] - state.bvh.lo[i],
                                    depth: state.bvh.depth[i], rays: state.bvh.entered[i]} : null),
-    view, orbit, zoom, redraw,
+    view, orbit, zoom, redraw, moving,
   };
 }

@@ -379,7 +379,7 @@ class Workers {
   Workers(std::string exe) : exe_(std::move(exe)) {}
 
   // Starts a job of `kind` ("render", "normals" or "bvh") for `opts` with
-  // `flags`; a render replaces (and stops) the running render.
+  // `flags`; it replaces (and stops) the running job of the same kind.
   std::shared_ptr<Job> start(const std::string& kind, const RenderOptions& opts, const std::vector<std::string>& flags) {
     auto job = std::make_shared<Job>();
     job->kind = kind;
@@ -388,13 +388,19 @@ class Workers {
     {
       std::lock_guard<std::mutex> lock(mu_);
       job->id = ++next_id_;
-      if (kind == "render") {
-        if (current_) cancel(current_);
-        current_ = job;
-      }
+      // One job of each kind at a time: a new one stops the one before.
+      auto& previous = latest_[kind];
+      if (previous) cancel(previous);
+      previous = job;
+      if (kind == "render") current_ = job;
       jobs_[job->id] = job;
-      // Keep the last few jobs' results for the page; forget the rest.
-      while (jobs_.size() > 8) jobs_.erase(jobs_.begin());
+      // Keep the last few jobs' results for the page (and every kind's
+      // latest); forget the rest.
+      for (auto it = jobs_.begin(); jobs_.size() > 8 && it != jobs_.end();) {
+        bool latest = false;
+        for (const auto& [k, j] : latest_) latest = latest || j == it->second;
+        it = latest ? std::next(it) : jobs_.erase(it);
+      }
     }
     std::vector<std::string> args = {exe_, "--worker", kind == "bvh" ? "bvh" : "render"};
     args.insert(args.end(), flags.begin(), flags.end());
@@ -582,7 +588,8 @@ class Workers {
   std::mutex mu_;
   uint64_t next_id_ = 0;
   std::map<uint64_t, std::shared_ptr<Job>> jobs_;
-  std::shared_ptr<Job> current_;
+  std::map<std::string, std::shared_ptr<Job>> latest_;  // by kind
+  std::shared_ptr<Job> current_;                        // the render
 };
 
 // ------------------------------------------------------------------ scenes

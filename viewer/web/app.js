@@ -60,7 +60,8 @@ function todoText(todo) {
     if (!parts.has(part)) parts.set(part, []);
     parts.get(part).push(m ? `${m[2]}, ${m[3]}${m[4]}` : line);
   }
-  return [...parts].map(([p, fns]) => `Part ${p} not implemented (TODO: ${fns.join('; ')})`).join('\n');
+  return [...parts].sort((a, b) => a[0].localeCompare(b[0]))
+    .map(([p, fns]) => `Part ${p} not implemented (TODO: ${fns.join('; ')})`).join('\n');
 }
 
 // ------------------------------------------------------------- settings

@@ -307,6 +307,7 @@ struct Job {
   std::vector<std::string> log;       // the last lines of its stderr
   std::shared_ptr<const Frame> frame; // the latest render pass
   int frames = 0;
+  std::vector<int> passes;            // the samples per pixel of every pass so far
   std::string bvh_head;               // the BVH message's JSON
   std::shared_ptr<const std::vector<uint8_t>> bvh;
   bool cancel_requested = false;
@@ -544,6 +545,7 @@ class Workers {
         f->payload = std::move(*payload);
         f->head = std::move(head);
         std::lock_guard<std::mutex> lock(job->mu);
+        job->passes.push_back(f->samples);
         job->frame = std::move(f);
         ++job->frames;
         job->cv.notify_all();
@@ -728,6 +730,8 @@ std::string job_json(Job& job) {
   for (size_t i = 0; i < job.todo.size(); ++i) s << (i ? "," : "") << json_quote(job.todo[i]);
   s << "],\"log\":[";
   for (size_t i = 0; i < job.log.size(); ++i) s << (i ? "," : "") << json_quote(job.log[i]);
+  s << "],\"passes\":[";
+  for (size_t i = 0; i < job.passes.size(); ++i) s << (i ? "," : "") << job.passes[i];
   s << "],\"target\":" << job.opts.samples_per_pixel << ",\"settings\":" << settings_json(job.opts);
   if (job.frame) {
     const Json& h = job.frame->head;

@@ -237,7 +237,8 @@ async function poll(job) {
     if (st.state !== 'running') {
       $('btn-stop').textContent = 'Restart';
       if (viewer.overlay === 'diff') await drawOverlay();
-      viewer.events.push({type: 'end', job, state: st.state, message: st.message, samples: st.frame && st.frame.samples});
+      viewer.events.push({type: 'end', job, state: st.state, message: st.message, samples: st.frame && st.frame.samples,
+                          passes: st.passes});
       document.body.dataset.render = st.state;
       return;
     }
@@ -274,6 +275,9 @@ async function drawOverlay() {
   if (viewer.overlay === 'diff') return drawDiff();
   const job = viewer.overlay === 'normals' ? viewer.normalsJob : viewer.job;
   if (!job) return;
+  // Only images that exist: a finished normals job, a render with a frame.
+  if (viewer.overlay === 'normals' ? viewer.normalsReady !== job
+                                   : !(viewer.status && viewer.status.job === job && viewer.status.frame)) return;
   try {
     const f = await fetchImage(job, viewer.overlay === 'normals' ? 'render' : viewer.overlay);
     // The render's maps cover its cell only; the normals, the whole image.
@@ -356,6 +360,7 @@ async function startNormals() {
     viewer.normalsJob = st.job;
     let s = st;
     while (s.state === 'running' && viewer.normalsJob === st.job) s = await api(`/api/status?job=${st.job}&after=0`);
+    if (s.state === 'done') viewer.normalsReady = st.job;
     if (viewer.normalsJob === st.job) await drawOverlay();
   } catch (e) {
     banner(e.message, 'error');

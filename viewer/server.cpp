@@ -58,12 +58,11 @@ struct BadRequest : std::runtime_error {
   explicit BadRequest(const std::string& m, int s = 400) : std::runtime_error(m), status(s) {}
 };
 
-// Reads the settings the page sends (a JSON object; every member optional,
-// the command line's value when absent) into render options, checking each
-// as the command line does.
+// Reads members of the JSON object the page sends, checking each as the
+// command line checks its flag (absent or null: the fallback).
 class SettingsReader {
  public:
-  SettingsReader(const Json& j, const RenderOptions& start) : j_(j), o_(start) {}
+  explicit SettingsReader(const Json& j) : j_(j) {}
 
   double number(const char* key, double lo, double hi, double fallback, bool integer) {
     const Json* v = j_.get(key);
@@ -107,7 +106,6 @@ class SettingsReader {
 
  private:
   const Json& j_;
-  const RenderOptions& o_;
 };
 
 struct CameraOverride {
@@ -123,7 +121,7 @@ struct Request {
 
 Request read_request(const Json& j, const RenderOptions& start, const FileAccess& files) {
   if (j.type != Json::Type::Object) throw BadRequest("expected a JSON object");
-  SettingsReader r(j, start);
+  SettingsReader r(j);
   Request q;
   RenderOptions& o = q.opts;
   o = start;

@@ -126,6 +126,7 @@ int run_render(const RenderOptions& base) {
     RayStats stats;
   };
   int pass = 0;
+  RenderCache cache;  // the BVH is built by the first pass and reused
   for (int n = next_pass_samples(0, target);; n = next_pass_samples(n, target)) {
     RenderOptions o = base;
     o.samples_per_pixel = n;
@@ -146,7 +147,7 @@ int run_render(const RenderOptions& base) {
         throw std::runtime_error("planted failure: a part threw an exception");
 #endif
     };
-    const RenderResult r = render_scene(scene, o, {}, after_pixel);
+    const RenderResult r = render_scene(scene, o, {}, after_pixel, &cache);
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::vector<uint8_t> payload(size_t(w) * h * 20);
     for (size_t i = 0; i < size_t(w) * h; ++i) {

@@ -45,7 +45,8 @@ void configure_camera(Camera& cam, const RenderOptions& opts) {
 }
 
 RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
-                          const std::function<void(const RenderResult&)>& before_render) {
+                          const std::function<void(const RenderResult&)>& before_render,
+                          const std::function<void(int x, int y)>& after_pixel, RenderCache* cache) {
   RenderResult result;
   ImageBuffer& img = result.image;
   const Camera& cam = scene.camera;
@@ -53,7 +54,12 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
   // The pipeline of the chosen part. Part 1: every primitive tested, normal
   // shading. Part 2: the same shading through the BVH.
   std::unique_ptr<Intersector> geometry;
-  if (opts.part >= 2) {
+  const bool reuse = cache && cache->geometry && cache->part_at_least_2 == (opts.part >= 2) &&
+                     cache->leaf == opts.bvh_max_leaf && cache->bins == opts.bvh_bins;
+  if (reuse) {
+    result.used_bvh = cache->used_bvh;
+    result.bvh = cache->bvh;
+  } else if (opts.part >= 2) {
     BVHOptions bo;
     bo.max_leaf_size = opts.bvh_max_leaf;
     bo.bins = opts.bvh_bins;
@@ -64,7 +70,15 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
   } else {
     geometry = std::make_unique<BruteForceIntersector>(scene);
   }
-  const CostSplittingIntersector counted(*geometry);
+  if (cache && !reuse) {
+    cache->geometry = std::move(geometry);
+    cache->part_at_least_2 = opts.part >= 2;
+    cache->leaf = opts.bvh_max_leaf;
+    cache->bins = opts.bvh_bins;
+    cache->used_bvh = result.used_bvh;
+    cache->bvh = result.bvh;
+  }
+  const CostSplittingIntersector counted(cache ? *cache->geometry : *geometry);
   const Intersector& isect = counted;
 
   // Part 3: emission plus one bounce of direct light. Parts 4 and 5: paths
@@ -95,6 +109,7 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
       img.at(x, y) = raytrace_pixel(cam, x, y, opts.samples_per_pixel, opts.seed, radiance);
       img.samples[img.index(x, y)] = uint32_t(opts.samples_per_pixel);
     }
+    if (after_pixel) after_pixel(x, y);
   });
   result.seconds = seconds_since(t0);
   return result;

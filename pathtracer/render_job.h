@@ -2,6 +2,7 @@
 // selected by --part, write the images, print the course's console lines.
 #pragma once
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "bvh.h"
@@ -20,6 +21,17 @@ struct RenderResult {
   BVHBuildStats bvh;           // when used_bvh
 };
 
+// What render_scene may keep between renders of one scene (the viewer's
+// passes): the BVH (or part 1's brute force), built once and reused while
+// the part's need of a BVH and the BVH settings stay the same.
+struct RenderCache {
+  std::unique_ptr<Intersector> geometry;
+  bool part_at_least_2 = false;
+  int leaf = 0, bins = 0;
+  bool used_bvh = false;
+  BVHBuildStats bvh;
+};
+
 // Applies -r, -c, -b and -d to the scene's camera (in that order).
 void configure_camera(Camera& cam, const RenderOptions& opts);
 
@@ -27,9 +39,15 @@ void configure_camera(Camera& cam, const RenderOptions& opts);
 // Deterministic for a given opts.seed, whatever opts.threads is.
 // `before_render` is called once the acceleration structure is built and
 // before the image is allocated and the first pixel rendered (the console
-// lines use it; its RenderResult has no image yet).
+// lines use it; its RenderResult has no image yet). `after_pixel`, when
+// set, is called on the render thread right after each pixel is done (the
+// viewer reads the thread's ray counters there for its per-pixel maps).
+// `cache`, when given, keeps the acceleration structure for the next call
+// with the same `scene`.
 RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
-                          const std::function<void(const RenderResult&)>& before_render = {});
+                          const std::function<void(const RenderResult&)>& before_render = {},
+                          const std::function<void(int x, int y)>& after_pixel = {},
+                          RenderCache* cache = nullptr);
 
 // The render's figures as a JSON object (--stats-json).
 std::string stats_json(const Scene& scene, const RenderOptions& opts, const RenderResult& r, double load_seconds);

@@ -3,10 +3,15 @@
 # As root it runs apt-get; otherwise it prints the exact command to run.
 set -euo pipefail
 
-packages=(build-essential cmake python3 libtinyxml2-dev liblodepng-dev catch2 libcli11-dev libopenexr-dev)
-# The instructors' tests check the write-up page in headless Chromium; the
-# starter kit, which has no instructors/ folder, does not need it.
-if [ -d "$(dirname "$0")/../instructors" ]; then
+root="$(cd "$(dirname "$0")/.." && pwd)"
+packages=(build-essential cmake python3 libtinyxml2-dev liblodepng-dev catch2 libcli11-dev libopenexr-dev
+          libcpp-httplib-dev pkg-config nodejs)
+# npm comes with some nodejs packages; Debian's is its own package.
+command -v npm >/dev/null 2>&1 || packages+=(npm)
+# The instructors' tests check the viewer's and the write-up's pages in
+# headless Chromium; the starter kit, which has no instructors/ folder, does
+# not need it.
+if [ -d "$root/instructors" ]; then
   packages+=(chromium)
 fi
 
@@ -15,7 +20,23 @@ for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 
+# The viewer's page and browser tests use three and playwright-core from
+# npm, exactly the versions of viewer/web/package-lock.json (npm ci; no
+# browser is downloaded: the tests drive Debian's chromium).
+npm_packages() {
+  local web="$root/viewer/web" omit=()
+  [ -f "$web/package-lock.json" ] || return 0
+  # Without instructors/ (the starter kit) only the page's own packages:
+  # playwright-core drives the browser tests, which the kit does not have.
+  [ -d "$root/instructors" ] || omit=(--omit=dev)
+  if [ ! -f "$web/node_modules/.package-lock.json" ] || [ "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]; then
+    echo "setup: installing the viewer's npm packages (npm ci in viewer/web)"
+    (cd "$web" && PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci "${omit[@]}" --no-audit --no-fund --loglevel=error)
+  fi
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
+  npm_packages
   exit 0
 fi
 
@@ -25,9 +46,11 @@ if [ "$(id -u)" -eq 0 ]; then
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
   apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  npm_packages
 elif command -v sudo >/dev/null 2>&1 && [ -t 0 ]; then
   echo "setup: installing ${missing[*]} with sudo"
   sudo sh -c "DEBIAN_FRONTEND=noninteractive $cmd"
+  npm_packages
 else
   echo "setup: missing packages: ${missing[*]}" >&2
   echo "setup: run as root:  sudo sh -c '$cmd'" >&2

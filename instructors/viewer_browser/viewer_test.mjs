@@ -1,0 +1,643 @@
+// The viewer's browser tests: each case starts a viewer (or the test build
+// with planted faults), drives the real page in headless Chromium through
+// playwright-core, and checks what the page shows against the command line.
+//
+//   node viewer_test.mjs --case NAME --viewer BIN --planted BIN --pathtracer BIN
+//                        --scenes DIR --web DIR --out DIR
+//
+// Cases: page_render, camera_round_trip, bvh, token_and_paths, todo_banner,
+// crash_reported; `--measure` prints timings instead (not a test).
+// Every wait is on an event of the page or a process, never a fixed delay.
+import {spawn, spawnSync} from 'node:child_process';
+import {createRequire} from 'node:module';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+
+const args = {};
+for (let i = 2; i < process.argv.length; ++i) {
+  const a = process.argv[i];
+  if (a.startsWith('--')) {
+    const next = process.argv[i + 1];
+    args[a.slice(2)] = next === undefined || next.startsWith('--') ? true : (++i, next);
+  }
+}
+const OUT = path.resolve(args.out || 'viewer-artifacts');
+fs.mkdirSync(OUT, {recursive: true});
+
+let failures = 0, passes = 0;
+function check(ok, what, detail) {
+  if (ok) {
+    ++passes;
+    console.log(`ok - ${what}`);
+  } else {
+    ++failures;
+    console.log(`FAIL - ${what}${detail ? `: ${detail}` : ''}`);
+  }
+  return ok;
+}
+
+function loadPlaywright() {
+  const pkg = path.resolve(args.web, 'package.json');
+  if (!fs.existsSync(path.join(args.web, 'node_modules', 'playwright-core'))) {
+    console.log(`FAIL - playwright-core is not installed in ${args.web}/node_modules: run scripts/setup.sh (npm ci)`);
+    process.exit(1);
+  }
+  return createRequire(pkg)('playwright-core');
+}
+
+// ------------------------------------------------------------- processes
+
+const children = [];
+process.on('exit', () => { for (const c of children) if (c.exitCode === null) c.kill('SIGKILL'); });
+
+// Starts a viewer; resolves with {url, base, token, proc} once it printed its URL.
+function startViewer(bin, flags, env) {
+  return new Promise((resolve, reject) => {
+    const proc = spawn(bin, flags, {env: Object.assign({}, process.env, env || {}), stdio: ['ignore', 'pipe', 'pipe']});
+    children.push(proc);
+    let out = '', err = '';
+    proc.stderr.on('data', (d) => { err += d; });
+    proc.stdout.on('data', (d) => {
+      out += d;
+      const line = out.split('\n')[0];
+      if (out.includes('\n')) {
+        const m = /^(http:\/\/127\.0\.0\.1:\d+)\/\?token=([0-9a-f]{32})$/.exec(line);
+        if (m) resolve({url: line, base: m[1], token: m[2], proc, stderr: () => err});
+        else reject(new Error(`unexpected first line: ${line}`));
+      }
+    });
+    proc.on('exit', (code) => reject(new Error(`viewer exited (${code}) before printing its URL: ${err}`)));
+  });
+}
+
+function stopViewer(v) {
+  return new Promise((resolve) => {
+    if (v.proc.exitCode !== null) return resolve(v.proc.exitCode);
+    v.proc.on('exit', (code, sig) => resolve(code === null ? sig : code));
+    v.proc.kill('SIGINT');
+  });
+}
+
+function runCli(flags) {
+  const r = spawnSync(args.pathtracer, flags, {encoding: 'utf8'});
+  if (r.status !== 0) throw new Error(`pathtracer ${flags.join(' ')} failed: ${r.stderr}`);
+  return r;
+}
+
+// ---------------------------------------------------------------- browser
+
+async function openBrowser() {
+  const {chromium} = loadPlaywright();
+  const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'pt-viewer-chromium-'));
+  // A fresh profile (playwright passes it as --user-data-dir).
+  const browser = await chromium.launchPersistentContext(profile, {
+    executablePath: '/usr/bin/chromium',
+    headless: true,
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+           '--disable-background-networking', '--disable-component-update', '--disable-sync',
+           '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+    acceptDownloads: true,
+    viewport: {width: 1400, height: 900},
+  });
+  const page = browser.pages()[0] || await browser.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  return {browser, page, errors, close: async () => { await browser.close(); fs.rmSync(profile, {recursive: true, force: true}); }};
+}
+
+// Waits until the page's event log has an event matching `pred` (a function
+// source over the event `e`) and returns it.
+async function waitEvent(page, pred, timeout = 60000) {
+  const h = await page.waitForFunction(`window.viewer && window.viewer.events.find((e) => ${pred})`, null, {timeout});
+  return h.jsonValue();
+}
+const lastJob = (page) => page.evaluate(() => window.viewer.job);
+
+async function renderEnd(page, job, timeout) {
+  return waitEvent(page, `e.type === 'end' && e.job === ${job}`, timeout);
+}
+
+// The render canvas's pixels, as an array of RGBA bytes.
+function canvasPixels(page) {
+  return page.evaluate(() => {
+    const c = document.getElementById('render-canvas');
+    return Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data);
+  });
+}
+
+// A PNG's pixels as the browser decodes it.
+function pngPixels(page, file) {
+  const b64 = fs.readFileSync(file).toString('base64');
+  return page.evaluate(async (data) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${data}`;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width;
+    c.height = img.height;
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    return {w: img.width, h: img.height, data: Array.from(g.getImageData(0, 0, img.width, img.height).data)};
+  }, b64);
+}
+
+async function fetchBytes(v, p) {
+  const res = await fetch(`${v.base}${p}`, {headers: {'X-Token': v.token}});
+  if (!res.ok) throw new Error(`${p}: HTTP ${res.status}`);
+  return Buffer.from(await res.arrayBuffer());
+}
+
+function sameArrays(a, b) {
+  if (a.length !== b.length) return false;
+  for (let i = 0; i < a.length; ++i) if (a[i] !== b[i]) return false;
+  return true;
+}
+
+const SCENE = () => path.join(args.scenes, 'CBspheres_lambertian.dae');
+// Small and quick, with every part's code in the loop (part 5, two bounces).
+const FLAGS = ['-r', '96', '72', '-s', '16', '-l', '1', '-m', '2', '-t', '2', '--seed', '5'];
+
+// ------------------------------------------------------------------ cases
+
+const cases = {};
+
+// The page loads, renders progressively to 16 samples and then shows
+// exactly the command line's image; a settings change restarts the render;
+// a cell render changes only its cell.
+cases.page_render = async () => {
+  const v = await startViewer(args.viewer, [...FLAGS, SCENE()]);
+  const b = await openBrowser();
+  try {
+    const {page} = b;
+    await page.goto(v.url);
+    await page.waitForFunction(() => document.body.dataset.ready === '1');
+    const job = await lastJob(page);
+    const end = await renderEnd(page, job);
+    check(end.state === 'done' && end.samples === 16, 'the progressive render reaches 16 samples', JSON.stringify(end));
+    const frames = await page.evaluate((j) => window.viewer.events.filter((e) => e.type === 'frame' && e.job === j)
+      .map((e) => e.samples), job);
+    check(JSON.stringify(end.passes) === '[1,2,4,8,16]', 'the render refines pass by pass: 1, 2, 4, 8, 16 samples per pixel',
+          JSON.stringify(end.passes));
+    // The page shows the newest pass when it asks (a pass that a faster one
+    // overtook is skipped), the last one always.
+    check(frames.length >= 1 && frames.every((n, i) => i === 0 || n > frames[i - 1]) && frames[frames.length - 1] === 16,
+          'the page shows the passes in order, ending with the 16-sample one', JSON.stringify(frames));
+    await page.screenshot({path: path.join(OUT, 'render_mode.png')});
+
+    const cliPng = path.join(OUT, 'cli_render.png');
+    runCli([...FLAGS, '-f', cliPng, SCENE()]);
+    const served = await fetchBytes(v, `/api/png?job=${job}`);
+    check(Buffer.compare(served, fs.readFileSync(cliPng)) === 0,
+          'Save PNG gives the bytes of the command line\'s PNG at the same settings and seed');
+    const shown = await canvasPixels(page), cli = await pngPixels(page, cliPng);
+    check(cli.w === 96 && cli.h === 72 && sameArrays(shown, cli.data),
+          'the page shows the command line\'s pixels after tone mapping');
+    const pfm = await fetchBytes(v, `/api/pfm?job=${job}`);
+    check(pfm.subarray(0, 3).toString() === 'PF\n' && pfm.length > 96 * 72 * 12, 'Save PFM gives a colour PFM');
+
+    // A settings change restarts.
+    await page.fill('input[name=samples]', '4');
+    await page.dispatchEvent('input[name=samples]', 'change');
+    const restarted = await waitEvent(page, `e.type === 'render' && e.job > ${job}`);
+    check(restarted.settings.samples === 4, 'changing samples per pixel restarts the render at the new count',
+          JSON.stringify(restarted.settings.samples));
+    const end4 = await renderEnd(page, restarted.job);
+    check(end4.state === 'done' && end4.samples === 4, 'the restarted render finishes at 4 samples', JSON.stringify(end4));
+    // The keyboard: ] doubles the samples (keys act outside the form's fields).
+    await page.evaluate(() => document.activeElement.blur());
+    await page.keyboard.press(']');
+    const keyed = await waitEvent(page, `e.type === 'render' && e.job > ${restarted.job}`);
+    check(keyed.settings.samples === 8, '] doubles the samples and restarts', String(keyed.settings.samples));
+    await renderEnd(page, keyed.job);
+
+    // A cell render (dragged on the image) changes only the cell: it uses
+    // another seed, so every pixel inside it gets new samples.
+    const before = await canvasPixels(page);
+    await page.evaluate(() => { window.viewer.settings.seed = 99; });
+    await page.check('#cell-mode');
+    const box = await page.locator('#render-canvas').boundingBox();
+    const sx = box.width / 96, sy = box.height / 72;
+    await page.mouse.move(box.x + 20.5 * sx, box.y + 10.5 * sy);
+    await page.mouse.down();
+    await page.mouse.move(box.x + 50.5 * sx, box.y + 40.5 * sy, {steps: 4});
+    await page.mouse.up();
+    const cellJob = await waitEvent(page, `e.type === 'render' && e.job > ${keyed.job}`);
+    check(JSON.stringify(cellJob.cell) === JSON.stringify([20, 72 - 41, 31, 31]),
+          'the dragged rectangle becomes the cell (-p counts rows from the bottom)', JSON.stringify(cellJob.cell));
+    const cellEnd = await renderEnd(page, cellJob.job);
+    check(cellEnd.state === 'done', 'the cell render finishes');
+    const after = await canvasPixels(page);
+    let outsideChanged = 0, insideChanged = 0;
+    for (let y = 0; y < 72; ++y) {
+      for (let x = 0; x < 96; ++x) {
+        const i = 4 * (y * 96 + x);
+        const changed = before[i] !== after[i] || before[i + 1] !== after[i + 1] || before[i + 2] !== after[i + 2];
+        const inside = x >= 20 && x <= 50 && y >= 10 && y <= 40;
+        if (changed && inside) ++insideChanged;
+        if (changed && !inside) ++outsideChanged;
+      }
+    }
+    check(outsideChanged === 0, 'a cell render leaves every pixel outside the cell unchanged', `${outsideChanged} changed`);
+    check(insideChanged > 31 * 31 / 2, 'a cell render redraws the cell', `${insideChanged} of 961 changed`);
+    await page.screenshot({path: path.join(OUT, 'cell_render.png')});
+
+    // Overlays: the tests-per-ray heat map and the rate image are drawn.
+    await page.selectOption('#overlay', 'tests');
+    await page.waitForFunction(() => document.getElementById('hud').dataset.scale !== undefined);
+    const scale = await page.evaluate(() => Number(document.getElementById('hud').dataset.scale));
+    check(scale > 0, 'the tests-per-ray overlay has a scale (the most tests per ray of any pixel)', String(scale));
+    await page.screenshot({path: path.join(OUT, 'overlay_tests.png')});
+
+    // The difference against the grader's reference of a case, by the
+    // grader's own statistics: this build is the reference, so it matches.
+    await page.click('#btn-whole');
+    const beforeCase = await lastJob(page);
+    await page.selectOption('#case', 'p1_spheres');
+    await page.click('#btn-apply-case');
+    const caseRender = await waitEvent(page, `e.type === 'render' && e.job > ${beforeCase} && e.settings.width === 320`);
+    check(caseRender.settings.part === 1 && caseRender.settings.height === 240,
+          'Use case settings renders with the case\'s settings (--part 1 -r 320 240)', JSON.stringify(caseRender.settings));
+    const diff = await waitEvent(page, `e.type === 'diff' && e.job === ${caseRender.job}`);
+    check(diff.summary && diff.summary.startsWith('matches the reference'),
+          'the difference overlay scores the render against case p1_spheres\'s reference: it matches',
+          JSON.stringify(diff));
+    await page.screenshot({path: path.join(OUT, 'overlay_diff.png')});
+
+    // The normals overlay is its own small job: it neither stops nor
+    // replaces the render it is drawn over.
+    await page.selectOption('#overlay', 'normals');
+    const lastRender = await lastJob(page);
+    await page.evaluate(() => document.activeElement.blur());
+    await page.keyboard.press('r');
+    const again = await waitEvent(page, `e.type === 'render' && e.job > ${lastRender}`);
+    const againEnd = await renderEnd(page, again.job);
+    check(againEnd.state === 'done', 'a render with the normals overlay runs to the end', againEnd.state);
+    await page.waitForFunction(() => document.getElementById('overlay-note').textContent.startsWith('normals'));
+    const normalsDrawn = await page.evaluate(() => {
+      const c = document.getElementById('overlay-canvas');
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let i = 3; i < d.length; i += 4) n += d[i] > 0;
+      return n / (d.length / 4);
+    });
+    check(normalsDrawn > 0.99, 'the normals overlay covers the image', String(normalsDrawn));
+    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
+  } finally {
+    await b.close();
+    await stopViewer(v);
+  }
+};
+
+// "Save camera" writes the course's -c file of the 3D view; the command
+// line renders exactly the viewer's "render from here" image from it.
+cases.camera_round_trip = async () => {
+  const flags = ['-r', '80', '60', '-s', '4', '-m', '1', '-t', '2', '--seed', '3'];
+  const v = await startViewer(args.viewer, [...flags, SCENE()]);
+  const b = await openBrowser();
+  try {
+    const {page} = b;
+    await page.goto(v.url);
+    await page.waitForFunction(() => document.body.dataset.ready === '1');
+    const first = await renderEnd(page, await lastJob(page));
+    check(first.state === 'done', 'the first render finishes');
+    const defaultPng = await fetchBytes(v, `/api/png?job=${first.job}`);
+    await page.keyboard.press('e');
+    await page.waitForFunction(() => document.body.dataset.view3d === 'camera', null, {timeout: 60000});
+    // Orbit and zoom with the mouse.
+    const box = await page.locator('#three-canvas').boundingBox();
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    await page.mouse.down();
+    await page.mouse.move(box.x + box.width / 2 + 60, box.y + box.height / 2 + 25, {steps: 5});
+    await page.mouse.up();
+    await page.mouse.wheel(0, -200);
+    await page.screenshot({path: path.join(OUT, 'camera_mode.png')});
+    const [download] = await Promise.all([page.waitForEvent('download'), page.click('#btn-save-camera')]);
+    const camFile = path.join(OUT, 'camera.txt');
+    await download.saveAs(camFile);
+    const lines = fs.readFileSync(camFile, 'utf8').trim().split('\n');
+    check(lines.length === 6 && lines.map((l) => l.trim().split(/\s+/).length).join() === '5,6,5,9,3,2',
+          'the saved camera file has the course\'s six lines', lines.join(' | '));
+    await page.click('#btn-render-here');
+    const here = await waitEvent(page, `e.type === 'render' && e.job > ${first.job}`);
+    const hereEnd = await renderEnd(page, here.job);
+    check(hereEnd.state === 'done', 'the render from the new view finishes');
+    const viewerPng = await fetchBytes(v, `/api/png?job=${here.job}`);
+    const cliPng = path.join(OUT, 'camera_cli.png');
+    runCli([...flags, '-c', camFile, '-f', cliPng, SCENE()]);
+    check(Buffer.compare(viewerPng, fs.readFileSync(cliPng)) === 0,
+          'pathtracer -c <saved camera> renders the viewer\'s image exactly');
+    check(Buffer.compare(viewerPng, defaultPng) !== 0, 'the orbited view differs from the scene\'s own view');
+    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
+  } finally {
+    await b.close();
+    await stopViewer(v);
+  }
+};
+
+// BVH mode: the root's box is the scene's bounds; a child's box is smaller.
+cases.bvh = async () => {
+  const v = await startViewer(args.viewer, ['-r', '80', '60', '-s', '1', '-t', '2', path.join(args.scenes, 'CBbunny.dae')]);
+  const b = await openBrowser();
+  try {
+    const {page} = b;
+    await page.goto(v.url);
+    await page.waitForFunction(() => document.body.dataset.ready === '1');
+    await page.keyboard.press('v');
+    await page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 60000});
+    const r = await page.evaluate(() => ({root: window.viewer.view3d.box(0), bounds: window.viewer.scene.bounds}));
+    const f = (xs) => xs.map((x) => Math.fround(x));
+    check(JSON.stringify(r.root.lo) === JSON.stringify(f(r.bounds.lo)) &&
+          JSON.stringify(r.root.hi) === JSON.stringify(f(r.bounds.hi)),
+          'the root node\'s box is the scene\'s bounds', JSON.stringify(r));
+    const info = await page.locator('#bvh-info').textContent();
+    check(/depth 0/.test(info) && /primitives [\d,]+/.test(info) && /SAH cost \d/.test(info) && /camera rays in [\d,]+/.test(info),
+          'the panel shows depth, primitives, SAH cost and rays for the root', info);
+    await page.screenshot({path: path.join(OUT, 'bvh_mode.png')});
+    // Step to each child with the course's keys and back with '?'.
+    const kids = [];
+    for (const key of ['<', '>']) {
+      await page.keyboard.press(key);
+      await page.waitForFunction(() => document.body.dataset.bvhNode !== '0');
+      kids.push(await page.evaluate(() => {
+        const v = window.viewer.view3d;
+        return Object.assign(v.nodeInfo(v.state.node), {text: document.getElementById('bvh-info').textContent});
+      }));
+      await page.keyboard.press('?');
+      await page.waitForFunction(() => document.body.dataset.bvhNode === '0');
+    }
+    const root = await page.evaluate(() => window.viewer.view3d.nodeInfo(0));
+    const vol = (x) => [0, 1, 2].reduce((p, k) => p * (x.hi[k] - x.lo[k]), 1);
+    const within = (c) => [0, 1, 2].every((k) => c.box.lo[k] >= root.box.lo[k] && c.box.hi[k] <= root.box.hi[k]);
+    check(kids.every(within), 'both children\'s boxes lie inside the root\'s', JSON.stringify(kids.map((k) => k.box)));
+    check(kids.some((k) => vol(k.box) < vol(root.box)), 'stepping to a child shrinks the box',
+          JSON.stringify({root: root.box, kids: kids.map((k) => k.box)}));
+    check(kids[0].primitives + kids[1].primitives === root.primitives && kids.every((k) => k.primitives < root.primitives),
+          'the children split the root\'s primitives between them',
+          `${kids[0].primitives} + ${kids[1].primitives} of ${root.primitives}`);
+    check(kids.every((k) => k.depth === 1 && /depth 1 of/.test(k.text)), 'the panel shows the children at depth 1');
+    check(kids.every((k) => k.rays <= root.rays), 'no child is entered by more camera rays than the root',
+          `${kids.map((k) => k.rays)} vs ${root.rays}`);
+    await page.fill('#depth-slider', '3');
+    await page.dispatchEvent('#depth-slider', 'input');
+    check((await page.locator('#depth-label').textContent()) === '3', 'the depth slider shows depth 3');
+    await page.screenshot({path: path.join(OUT, 'bvh_depth.png')});
+    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
+  } finally {
+    await b.close();
+    await stopViewer(v);
+  }
+};
+
+// Requests without the token are refused; files outside the folders named
+// on the command line cannot be opened; bad requests get a 4xx.
+cases.token_and_paths = async () => {
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'pt-viewer-paths-'));
+  const outside = fs.mkdtempSync(path.join(os.tmpdir(), 'pt-viewer-outside-'));
+  fs.copyFileSync(SCENE(), path.join(dir, 'scene.dae'));
+  fs.copyFileSync(SCENE(), path.join(outside, 'secret.dae'));
+  fs.symlinkSync(path.join(outside, 'secret.dae'), path.join(dir, 'link.dae'));
+  const v = await startViewer(args.viewer, ['-r', '32', '24', path.join(dir, 'scene.dae')]);
+  try {
+    for (const p of ['/', '/api/state', '/web/app.js', '/three/three.module.js', '/api/status?job=1']) {
+      const res = await fetch(`${v.base}${p}`);
+      check(res.status === 403, `${p} without the token is refused (403)`, String(res.status));
+    }
+    const wrong = await fetch(`${v.base}/api/state?token=${'0'.repeat(32)}`);
+    check(wrong.status === 403, 'a wrong token is refused (403)', String(wrong.status));
+    const ok = await fetch(`${v.base}/api/state?token=${v.token}`);
+    check(ok.status === 200, 'the token of the printed URL is accepted', String(ok.status));
+    const post = (body) => fetch(`${v.base}/api/render`, {method: 'POST', headers: {'X-Token': v.token}, body});
+    for (const [what, scene] of [['a path with ..', `${dir}/../${path.basename(outside)}/secret.dae`],
+                                 ['an absolute path elsewhere', path.join(outside, 'secret.dae')],
+                                 ['/etc/passwd', '/etc/passwd'],
+                                 ['a symlink out of the folder', path.join(dir, 'link.dae')]]) {
+      const res = await post(JSON.stringify({scene}));
+      const body = await res.json();
+      check(res.status === 403 && /outside the folders/.test(body.error), `${what} is refused`, `${res.status} ${body.error}`);
+    }
+    for (const [what, body, status] of [['malformed JSON', '{"samples": ', 400],
+                                        ['negative samples', '{"samples": -4}', 400],
+                                        ['an absurd size', '{"width": 100000, "height": 100000}', 400],
+                                        ['a fractional count', '{"threads": 1.5}', 400],
+                                        ['a cell outside the image', '{"cell": [30, 0, 10, 10]}', 400],
+                                        ['a body of a megabyte', `{"scene": "${'x'.repeat(1 << 20)}"}`, 413]]) {
+      const res = await post(body);
+      check(res.status === status, `${what} gets ${status}`, String(res.status));
+    }
+    const alive = await fetch(`${v.base}/api/state?token=${v.token}`);
+    check(alive.status === 200, 'the server still serves after the bad requests');
+  } finally {
+    await stopViewer(v);
+    fs.rmSync(dir, {recursive: true, force: true});
+    fs.rmSync(outside, {recursive: true, force: true});
+  }
+};
+
+// A build whose part prints a stub's TODO line: the page says which part
+// and function, and still shows the image.
+cases.todo_banner = async () => {
+  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '2', '-t', '2', SCENE()], {PT_VIEWER_PLANT: 'todo'});
+  const b = await openBrowser();
+  try {
+    const {page} = b;
+    await page.goto(v.url);
+    await page.waitForFunction(() => document.body.dataset.ready === '1');
+    const end = await renderEnd(page, await lastJob(page));
+    const text = await page.locator('#banner').textContent();
+    check(await page.locator('#banner').isVisible() &&
+          text.includes('Part 1 not implemented (TODO: raytrace_pixel, stages/part1_raytracing/pixel_sampling.cpp)'),
+          'the banner names the part, the function and the file', text);
+    check(end.state === 'done', 'the render still finishes', end.state);
+    const px = await canvasPixels(page);
+    check(px.some((x, i) => i % 4 !== 3 && x > 0), 'the canvas is not blank');
+    await page.screenshot({path: path.join(OUT, 'todo_banner.png')});
+  } finally {
+    await b.close();
+    await stopViewer(v);
+  }
+};
+
+// A crash in a render (a planted null write) is reported in the page and
+// the server keeps serving: the next render works.
+cases.crash_reported = async () => {
+  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '2', '-t', '2', '--seed', '13', SCENE()],
+                              {PT_VIEWER_PLANT: 'crash'});
+  const b = await openBrowser();
+  try {
+    const {page} = b;
+    await page.goto(v.url);
+    await page.waitForFunction(() => document.body.dataset.ready === '1');
+    const end = await renderEnd(page, await lastJob(page));
+    const text = await page.locator('#banner').textContent();
+    check(end.state === 'crashed', 'the render is reported as crashed', end.state);
+    check(text.includes('planted_crash_in_render crashed: SIGSEGV while rendering'),
+          'the banner names the function and the signal', text);
+    await page.screenshot({path: path.join(OUT, 'crash_banner.png')});
+    await page.fill('input[name=seed]', '0');
+    await page.dispatchEvent('input[name=seed]', 'change');
+    const next = await waitEvent(page, `e.type === 'render' && e.job > ${end.job}`);
+    const nextEnd = await renderEnd(page, next.job);
+    check(nextEnd.state === 'done', 'the server keeps serving: the next render finishes', nextEnd.state);
+    check(!(await page.locator('#banner').isVisible()), 'the banner is gone with the crash');
+    // An exception thrown in the middle of a render: its message, and the
+    // server goes on.
+    await page.fill('input[name=seed]', '14');
+    await page.dispatchEvent('input[name=seed]', 'change');
+    const thrower = await waitEvent(page, `e.type === 'render' && e.job > ${next.job}`);
+    const thrown = await renderEnd(page, thrower.job);
+    const thrownText = await page.locator('#banner').textContent();
+    check(thrown.state === 'failed' && thrownText.includes('planted failure: a part threw an exception'),
+          'an exception in a render is reported with its message', `${thrown.state}: ${thrownText}`);
+    check(v.proc.exitCode === null, 'the server process is still running');
+  } finally {
+    await b.close();
+    await stopViewer(v);
+  }
+};
+
+// One screenshot per mode at a realistic size (the README's pictures:
+// --publish DIR copies them there), and the 3D views draw something.
+cases.screenshots = async () => {
+  const v = await startViewer(args.viewer, ['-r', '480', '360', '-s', '16', '-l', '1', '-m', '3', '-t', '2',
+                                            path.join(args.scenes, 'CBbunny.dae')]);
+  const b = await openBrowser();
+  const shots = [];
+  // PNG artefacts; the README's copies (--publish) as small JPEGs of the same frame.
+  const shoot = async (name) => {
+    const clip = {x: 0, y: 0, width: 1280, height: 860};
+    await b.page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
+    if (args.publish) {
+      const file = path.join(OUT, name);
+      await b.page.screenshot({path: file, type: 'jpeg', quality: 82, clip});
+      shots.push(file);
+    }
+  };
+  // The WebGL canvas's pixels that are not the background.
+  const drawn = () => b.page.evaluate(() => {
+    const c = document.getElementById('three-canvas');
+    const g = document.createElement('canvas');
+    g.width = c.width;
+    g.height = c.height;
+    const x = g.getContext('2d');
+    x.drawImage(c, 0, 0);
+    const d = x.getImageData(0, 0, g.width, g.height).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - 0x15) + Math.abs(d[i + 1] - 0x16) + Math.abs(d[i + 2] - 0x1a) > 30) ++n;
+    return n / (d.length / 4);
+  });
+  try {
+    const {page} = b;
+    await page.goto(v.url);
+    await page.waitForFunction(() => document.body.dataset.ready === '1');
+    const end = await renderEnd(page, await lastJob(page));
+    check(end.state === 'done', 'the render finishes');
+    await shoot('render_mode.jpg');
+    await page.selectOption('#overlay', 'tests');
+    await page.waitForFunction(() => document.getElementById('hud').dataset.scale !== undefined);
+    await shoot('render_overlay_tests.jpg');
+    await page.selectOption('#overlay', '');
+    await page.keyboard.press('e');
+    await page.waitForFunction(() => document.body.dataset.view3d === 'camera', null, {timeout: 60000});
+    const camDrawn = await drawn();
+    check(camDrawn > 0.2, 'the camera view draws the scene (WebGL in headless Chromium)', String(camDrawn));
+    await shoot('camera_mode.jpg');
+    await page.keyboard.press('v');
+    await page.waitForFunction(() => document.body.dataset.view3d === 'bvh' && document.body.dataset.bvhNode === '0',
+                               null, {timeout: 60000});
+    for (const k of ['<', '<']) {
+      const before = await page.evaluate(() => document.body.dataset.bvhNode);
+      await page.keyboard.press(k);
+      await page.waitForFunction((n) => document.body.dataset.bvhNode !== n, before);
+    }
+    check(await drawn() > 0.2, 'the BVH view draws the scene and the boxes');
+    await shoot('bvh_mode.jpg');
+    await page.keyboard.press('?');
+    await page.keyboard.press('?');
+    await page.waitForFunction(() => document.body.dataset.bvhNode === '0');
+    await page.fill('#depth-slider', '6');
+    await page.dispatchEvent('#depth-slider', 'input');
+    await shoot('bvh_depth.jpg');
+    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
+    if (args.publish) {
+      fs.mkdirSync(args.publish, {recursive: true});
+      for (const f of shots) fs.copyFileSync(f, path.join(args.publish, path.basename(f)));
+    }
+  } finally {
+    await b.close();
+    await stopViewer(v);
+  }
+};
+
+// Not a test: timings for the report.
+async function measure() {
+  const results = {};
+  if (args.measure !== 'bvh') {
+    const v = await startViewer(args.viewer, ['-r', '480', '360', '-t', '2', '-s', '64', '-l', '4', '-m', '5',
+                                              SCENE()]);
+    const b = await openBrowser();
+    const t0 = Date.now();
+    await b.page.goto(v.url);
+    await b.page.waitForFunction(() => document.body.dataset.ready === '1');
+    const job = await lastJob(b.page);
+    await waitEvent(b.page, `e.type === 'frame' && e.job === ${job}`, 600000);
+    results.first_frame_ms_from_page_load = Date.now() - t0;
+    const end = await renderEnd(b.page, job, 600000);
+    const st = await b.page.evaluate(() => window.viewer.status);
+    results.frames = await b.page.evaluate((j) => window.viewer.events.filter((e) => e.type === 'frame' && e.job === j)
+      .map((e) => ({samples: e.samples, elapsed_s: e.elapsed, pass_s: e.seconds})), job);
+    results.passes = st.frame.pass + 1;
+    results.render_wall_s = st.wall;
+    results.passes_per_second = (st.frame.pass + 1) / st.wall;
+    results.end = end.state;
+    await b.close();
+    await stopViewer(v);
+  }
+  {
+    const v = await startViewer(args.viewer, ['-r', '480', '360', '-t', '2', path.join(args.scenes, args.scene || 'CBdragon_large.dae')]);
+    const b = await openBrowser();
+    await b.page.goto(v.url);
+    await b.page.waitForFunction(() => document.body.dataset.ready === '1');
+    await b.page.keyboard.press('v');
+    await b.page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 600000});
+    // What a frame looks like while the camera moves.
+    await b.page.evaluate(() => { window.viewer.view3d.moving(true); window.viewer.view3d.redraw(); });
+    await b.page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+    await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large_moving.png')});
+    await b.page.evaluate(() => window.viewer.view3d.moving(false));
+    await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large_still.png')});
+    const m = await b.page.evaluate(() => window.viewer.view3d.measure(120));
+    const stats = (xs) => {
+      xs.sort((a, c) => a - c);
+      return {median: xs[Math.floor(xs.length / 2)], p95: xs[Math.floor(xs.length * 0.95)], max: xs[xs.length - 1]};
+    };
+    // Frame: between two animation frames; draw: render() until the GPU
+    // process has finished it (gl.finish).
+    results.bvh_frame_ms = stats(m.frames);
+    results.bvh_draw_ms = stats(m.draws);
+    results.bvh_triangles_drawn_while_moving = m.triangles;
+    await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large.png')});
+    await b.close();
+    await stopViewer(v);
+  }
+  console.log(JSON.stringify(results, null, 2));
+}
+
+const main = async () => {
+  if (args.measure) return measure();
+  const c = cases[args.case];
+  if (!c) {
+    console.log(`FAIL - unknown case '${args.case}' (cases: ${Object.keys(cases).join(', ')})`);
+    process.exit(1);
+  }
+  await c();
+};
+main().then(() => {
+  console.log(`${passes} passed, ${failures} failed`);
+  process.exit(failures ? 1 : 0);
+}, (e) => {
+  console.log(`FAIL - ${args.case}: ${e.stack || e}`);
+  console.log(`${passes} passed, ${failures + 1} failed`);
+  process.exit(1);
+});

@@ -1,0 +1,130 @@
+// The viewer's C++ parts without a browser: the camera file it writes, the
+// files it lets the page open, and the progressive render's schedule.
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "camera_file.h"
+#include "collada.h"
+#include "file_access.h"
+#include "render_job.h"
+#include "worker.h"
+
+namespace fs = std::filesystem;
+using namespace pt;
+
+namespace {
+
+// A fresh temporary folder, removed at the end of the test.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    char tmpl[] = "/tmp/pt-viewer-test-XXXXXX";
+    path = ::mkdtemp(tmpl);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+void touch(const fs::path& p) { std::ofstream(p) << "x"; }
+
+}  // namespace
+
+TEST_CASE("the saved camera file gives back the viewer's camera exactly through -c", "[viewer]") {
+  Scene scene = load_collada(std::string(PT_PROJECT_SCENES_DIR) + "/CBspheres_lambertian.dae");
+  RenderOptions opts;
+  opts.width = 480;
+  opts.height = 360;
+  opts.lens_radius = 0.03;
+  opts.lens_radius_set = true;
+  Camera cam = scene.camera;
+  configure_camera(cam, opts);
+  cam.look_at(Vec3d(0.7, 1.1, 3.3), Vec3d(0.1, 0.5, -0.2), Vec3d(0, 1, 0));
+
+  TempDir dir;
+  const std::string file = (dir.path / "camera.txt").string();
+  std::ofstream(file) << viewer::camera_settings_text(cam);
+  RenderOptions with_file = opts;
+  with_file.camera_settings = file;
+  Camera back = scene.camera;
+  configure_camera(back, with_file);  // what pathtracer -c does
+
+  CHECK(back.position.x == cam.position.x);
+  CHECK(back.position.y == cam.position.y);
+  CHECK(back.position.z == cam.position.z);
+  for (const auto& [a, b] : {std::pair{back.axis_x, cam.axis_x}, {back.axis_y, cam.axis_y}, {back.axis_z, cam.axis_z}}) {
+    CHECK(a.x == b.x);
+    CHECK(a.y == b.y);
+    CHECK(a.z == b.z);
+  }
+  CHECK(back.hfov_deg == cam.hfov_deg);
+  CHECK(back.vfov_deg == cam.vfov_deg);
+  CHECK(back.screen_dist == cam.screen_dist);
+  CHECK(back.near_clip == cam.near_clip);
+  CHECK(back.far_clip == cam.far_clip);
+  CHECK(back.lens_radius == cam.lens_radius);
+  CHECK(back.focal_distance == cam.focal_distance);
+  CHECK(back.width == 480);
+  CHECK(back.height == 360);
+}
+
+TEST_CASE("the page opens only files of the right kind inside the allowed folders", "[viewer]") {
+  TempDir allowed, outside;
+  fs::create_directories(allowed.path / "sub");
+  touch(allowed.path / "scene.dae");
+  touch(allowed.path / "sub" / "deep.dae");
+  touch(allowed.path / "camera.txt");
+  touch(allowed.path / "notes.md");
+  touch(outside.path / "secret.dae");
+  fs::create_symlink(outside.path / "secret.dae", allowed.path / "link.dae");
+  fs::create_symlink(outside.path, allowed.path / "door");
+  fs::create_symlink(allowed.path / "scene.dae", allowed.path / "alias.dae");
+
+  viewer::FileAccess files;
+  files.allow_folder(allowed.path.string());
+  std::string why;
+  const auto scene = [&](const fs::path& p) { return files.resolve(p.string(), viewer::FileKind::Scene, &why); };
+  const std::string root = fs::canonical(allowed.path).string();
+
+  CHECK(scene(allowed.path / "scene.dae") == root + "/scene.dae");
+  CHECK(scene(allowed.path / "sub" / ".." / "scene.dae") == root + "/scene.dae");
+  CHECK(scene(allowed.path / "sub" / "deep.dae") == root + "/sub/deep.dae");
+  CHECK(scene(allowed.path / "alias.dae") == root + "/scene.dae");  // a link that stays inside
+  CHECK(scene(allowed.path / "link.dae").empty());                  // a link out
+  CHECK(why.find("outside the folders") != std::string::npos);
+  CHECK(scene(allowed.path / "door" / "secret.dae").empty());       // through a linked folder
+  CHECK(scene(allowed.path / ".." / outside.path.filename() / "secret.dae").empty());
+  CHECK(scene(outside.path / "secret.dae").empty());
+  CHECK(scene("/etc/passwd").empty());
+  CHECK(scene(allowed.path / "missing.dae").empty());
+  CHECK(scene(allowed.path / "notes.md").empty());                  // not a scene
+  CHECK(scene(allowed.path / "sub").empty());                       // a folder
+  CHECK(scene("").empty());
+  CHECK(files.resolve((allowed.path / "camera.txt").string(), viewer::FileKind::Camera, &why) ==
+        root + "/camera.txt");
+
+  const auto listed = files.list(viewer::FileKind::Scene);
+  CHECK(listed == std::vector<std::string>{root + "/scene.dae", root + "/sub/deep.dae"});
+  CHECK_THROWS(files.allow_folder((allowed.path / "scene.dae").string()));
+}
+
+TEST_CASE("the progressive render's passes take 1, 2, 4, ... samples and end at -s", "[viewer]") {
+  const auto schedule = [](int target) {
+    std::vector<int> s;
+    for (int n = viewer::next_pass_samples(0, target);; n = viewer::next_pass_samples(n, target)) {
+      s.push_back(n);
+      if (n >= target) break;
+    }
+    return s;
+  };
+  CHECK(schedule(1) == std::vector<int>{1});
+  CHECK(schedule(16) == std::vector<int>{1, 2, 4, 8, 16});
+  CHECK(schedule(5) == std::vector<int>{1, 2, 4, 5});
+  CHECK(schedule(1 << 20).size() == 21);
+}

@@ -1,0 +1,271 @@
+#include "worker.h"
+
+#include <execinfo.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bvh.h"
+#include "camera_rays.h"
+#include "collada.h"
+#include "options.h"
+#include "render_job.h"
+#include "todo.h"
+
+namespace pt::viewer {
+
+#ifdef PT_VIEWER_PLANTS
+// Outside the unnamed namespace, so that the backtrace can name it.
+__attribute__((noinline, noipa)) void planted_crash_in_render(volatile int* p) { *p = 1; }
+#endif
+
+namespace {
+
+int g_protocol_fd = -1;  // the worker's real standard output
+
+void write_all(const void* data, size_t n) {
+  const char* p = static_cast<const char*>(data);
+  while (n > 0) {
+    const ssize_t w = ::write(g_protocol_fd, p, n);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      std::_Exit(3);  // the server went away: nothing left to do
+    }
+    p += w;
+    n -= size_t(w);
+  }
+}
+
+void write_message(const std::string& head, const std::vector<uint8_t>& payload) {
+  write_all(head.data(), head.size());
+  if (!payload.empty()) write_all(payload.data(), payload.size());
+}
+
+// A fault in a part's code: name the signal and print the stack, then die
+// of the same signal so that the server sees how the worker ended.
+void on_fault(int sig) {
+  const char* name = sig == SIGSEGV ? "SIGSEGV" : sig == SIGBUS ? "SIGBUS" : sig == SIGFPE ? "SIGFPE"
+                     : sig == SIGILL ? "SIGILL" : sig == SIGABRT ? "SIGABRT" : "SIGNAL";
+  const char head[] = "CRASH ";
+  (void)!::write(2, head, sizeof head - 1);
+  (void)!::write(2, name, std::strlen(name));
+  (void)!::write(2, "\n", 1);
+  void* frames[64];
+  const int n = backtrace(frames, 64);
+  backtrace_symbols_fd(frames, n, 2);
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+void install_fault_handlers() {
+  // backtrace() loads libgcc on first use, which is not safe inside a
+  // signal handler: do it now.
+  void* warm[2];
+  backtrace(warm, 2);
+  for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(sig, on_fault);
+}
+
+#ifdef PT_VIEWER_PLANTS
+// Test builds only: faults planted by the environment, to test how the
+// server reports them. PT_VIEWER_PLANT=crash dereferences a null pointer
+// in the middle of a render with --seed 13 and throws an exception there
+// with --seed 14; =todo prints a stub's TODO line.
+std::string planted() {
+  const char* v = std::getenv("PT_VIEWER_PLANT");
+  return v ? v : "";
+}
+#endif
+
+std::string frame_json(const RenderOptions& o, int pass, const RenderResult& r, double elapsed, size_t bytes) {
+  char buf[768];
+  std::snprintf(buf, sizeof buf,
+                "{\"kind\":\"render\",\"pass\":%d,\"width\":%d,\"height\":%d,\"samples\":%d,"
+                "\"rays\":%llu,\"tests\":%llu,\"nodes\":%llu,\"seconds\":%.6f,\"elapsed\":%.6f,"
+                "\"used_bvh\":%s,\"bytes\":%zu}",
+                pass, o.width, o.height, o.samples_per_pixel, (unsigned long long)r.stats.rays(),
+                (unsigned long long)r.stats.primitive_tests, (unsigned long long)r.stats.node_visits, r.seconds,
+                elapsed, r.used_bvh ? "true" : "false", bytes);
+  return buf;
+}
+
+Scene load_scene(const RenderOptions& o) {
+  std::vector<std::string> warnings;
+  Scene scene = load_collada(o.scene_path, &warnings);
+  if (!o.env_map.empty()) {
+    Light env;
+    env.type = LightType::Environment;
+    env.environment = std::make_shared<const EnvironmentMap>(load_environment_map(o.env_map));
+    scene.lights.push_back(env);
+  }
+  configure_camera(scene.camera, o);
+  return scene;
+}
+
+// The progressive render: passes at 1, 2, 4, ... samples, then -s. Each
+// pass is the command line's render at that sample count (render_scene with
+// the same options and seed), so the last one is exactly its image.
+int run_render(const RenderOptions& base) {
+  const Scene scene = load_scene(base);
+  const int target = base.samples_per_pixel;
+  const int w = base.width, h = base.height;
+  const auto t0 = std::chrono::steady_clock::now();
+  // Per pixel: intersection tests per ray, from the render thread's counters.
+  std::vector<float> tests_per_ray(size_t(w) * h, 0.0f);
+  struct Last {
+    int pass = -1;
+    RayStats stats;
+  };
+  int pass = 0;
+  RenderCache cache;  // the BVH is built by the first pass and reused
+  for (int n = next_pass_samples(0, target);; n = next_pass_samples(n, target)) {
+    RenderOptions o = base;
+    o.samples_per_pixel = n;
+    o.progress = false;
+    std::fill(tests_per_ray.begin(), tests_per_ray.end(), 0.0f);
+    const auto after_pixel = [&](int x, int y) {
+      // The render loop zeroes each thread's counters when a render starts.
+      thread_local Last last;
+      if (last.pass != pass) last = Last{pass, RayStats{}};
+      const RayStats& now = thread_ray_stats();
+      const uint64_t rays = now.rays() - last.stats.rays();
+      const uint64_t tests = now.primitive_tests - last.stats.primitive_tests;
+      tests_per_ray[size_t(y) * w + x] = rays ? float(double(tests) / double(rays)) : 0.0f;
+      last.stats = now;
+#ifdef PT_VIEWER_PLANTS
+      if (o.seed == 13 && x == w / 2 && y == h / 2 && planted() == "crash") planted_crash_in_render(nullptr);
+      if (o.seed == 14 && x == w / 2 && y == h / 2 && planted() == "crash")
+        throw std::runtime_error("planted failure: a part threw an exception");
+#endif
+    };
+    const RenderResult r = render_scene(scene, o, {}, after_pixel, &cache);
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::vector<uint8_t> payload(size_t(w) * h * 20);
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+      uint8_t* p = &payload[i * 20];
+      std::memcpy(p, &r.image.pixels[i], 12);
+      std::memcpy(p + 12, &r.image.samples[i], 4);
+      std::memcpy(p + 16, &tests_per_ray[i], 4);
+    }
+    write_message("FRAME " + frame_json(o, pass, r, elapsed, payload.size()) + "\n", payload);
+    ++pass;
+    if (n >= target) break;
+  }
+  write_message("DONE\n", {});
+  return 0;
+}
+
+// Slab test of a ray against a box within [t0, t1].
+bool box_hit(const BVHNode& n, const Ray& r, float t0, float t1) {
+  for (int a = 0; a < 3; ++a) {
+    const float inv = 1.0f / r.d[a];
+    float tn = (n.lo[a] - r.o[a]) * inv, tf = (n.hi[a] - r.o[a]) * inv;
+    if (tn > tf) std::swap(tn, tf);
+    if (std::isnan(tn) || std::isnan(tf)) continue;  // a zero direction inside the slab
+    t0 = std::max(t0, tn);
+    t1 = std::min(t1, tf);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// The BVH of the scene, as the part's code builds it, and for every node
+// how many of the camera's pixel-centre rays reach its box before their
+// nearest hit (the rays any correct traversal must take into it).
+// Payload: nodes x 32 bytes (BVHNode), then leaf primitive ids (uint32),
+// then the ray counts per node (uint32).
+int run_bvh(const RenderOptions& o) {
+  const Scene scene = load_scene(o);
+  BVHOptions bo;
+  bo.max_leaf_size = o.bvh_max_leaf;
+  bo.bins = o.bvh_bins;
+  const BVH bvh(scene, bo);
+  const auto& nodes = bvh.nodes();
+  const auto& prims = bvh.leaf_primitives();
+  std::vector<uint32_t> entered(nodes.size(), 0);
+  const Camera& cam = scene.camera;
+  std::vector<uint32_t> stack;
+  for (int y = 0; y < o.height; ++y)
+    for (int x = 0; x < o.width; ++x) {
+      Ray r = generate_ray(cam, (x + 0.5) / o.width, (y + 0.5) / o.height);
+      Hit hit;
+      bvh.intersect(r, &hit);  // sets r.max_t to the nearest hit
+      if (nodes.empty()) continue;
+      stack.assign(1, 0);
+      while (!stack.empty()) {
+        const uint32_t i = stack.back();
+        stack.pop_back();
+        if (i >= nodes.size() || !box_hit(nodes[i], r, r.min_t, r.max_t)) continue;
+        ++entered[i];
+        if (!nodes[i].is_leaf() && nodes[i].first + 1 < nodes.size()) {
+          stack.push_back(nodes[i].first);
+          stack.push_back(nodes[i].first + 1);
+        }
+      }
+    }
+  std::vector<uint8_t> payload(nodes.size() * 32 + prims.size() * 4 + entered.size() * 4);
+  uint8_t* p = payload.data();
+  if (!nodes.empty()) std::memcpy(p, nodes.data(), nodes.size() * 32);
+  p += nodes.size() * 32;
+  if (!prims.empty()) std::memcpy(p, prims.data(), prims.size() * 4);
+  p += prims.size() * 4;
+  if (!entered.empty()) std::memcpy(p, entered.data(), entered.size() * 4);
+  const BVHBuildStats& st = bvh.build_stats();
+  char head[512];
+  std::snprintf(head, sizeof head,
+                "BVH {\"nodes\":%zu,\"prims\":%zu,\"triangles\":%zu,\"spheres\":%zu,\"build_seconds\":%.6f,"
+                "\"sah_cost\":%.6f,\"depth\":%d,\"leaves\":%zu,\"camera_rays\":%lld,\"bytes\":%zu}\n",
+                nodes.size(), prims.size(), scene.triangles.size(), scene.spheres.size(), st.build_seconds,
+                st.sah_cost, st.depth, st.leaves, (long long)o.width * o.height, payload.size());
+  write_message(head, payload);
+  write_message("DONE\n", {});
+  return 0;
+}
+
+}  // namespace
+
+int worker_main(int argc, char** argv) {
+  // The protocol keeps the real stdout; everything the program prints goes
+  // to stderr, where the server reads the TODO lines.
+  g_protocol_fd = ::dup(1);
+  ::dup2(2, 1);
+  install_fault_handlers();
+  if (argc < 3) {
+    std::fprintf(stderr, "ERROR the worker needs a job\n");
+    return 2;
+  }
+  const std::string job = argv[2];
+  // parse_command_line sees "viewer <flags> scene".
+  std::vector<char*> args = {argv[0]};
+  for (int i = 3; i < argc; ++i) args.push_back(argv[i]);
+  try {
+    RenderOptions opts;
+    if (auto code = parse_command_line(int(args.size()), args.data(), &opts)) {
+      std::fprintf(stderr, "ERROR the settings were refused (see above)\n");
+      return *code;
+    }
+#ifdef PT_VIEWER_PLANTS
+    if (planted() == "todo") todo_once("Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp)");
+#endif
+    if (job == "render") return run_render(opts);
+    if (job == "bvh") return run_bvh(opts);
+    std::fprintf(stderr, "ERROR unknown worker job '%s'\n", job.c_str());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "ERROR out of memory\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ERROR %s\n", e.what());
+  }
+  return 1;
+}
+
+}  // namespace pt::viewer

@@ -43,12 +43,10 @@ extern char** environ;
 namespace pt::viewer {
 
 namespace fs = std::filesystem;
-using grader::Json;
-using grader::json_quote;
 
 namespace {
 
-std::string num(double v) { return grader::json_number(v); }
+std::string num(double v) { return pt::json_number(v); }
 
 // ---------------------------------------------------------------- requests
 
@@ -524,7 +522,7 @@ class Workers {
       const std::string tag = line.substr(0, space);
       Json head;
       try {
-        head = grader::parse_json(line.substr(space + 1), "worker message");
+        head = pt::parse_json(line.substr(space + 1), "worker message");
       } catch (const std::exception&) {
         break;
       }
@@ -707,7 +705,7 @@ void send_error(httplib::Response& res, const std::string& message, int status) 
 
 Json body_json(const httplib::Request& req) {
   try {
-    return grader::parse_json(req.body, "request");
+    return pt::parse_json(req.body, "request");
   } catch (const std::exception& e) {
     throw BadRequest(std::string("malformed JSON: ") + e.what());
   }
@@ -1109,11 +1107,7 @@ int run_server(ServerConfig cfg) {
       throw BadRequest(name + ": " + why, 404);
     const int w = f->width, h = f->height;
     if (ref.mean.width != w || ref.mean.height != h) throw BadRequest(name + ": the reference is another size", 409);
-    grader::Image mine(w, h, 3);
-    const ImageBuffer img = f->image();
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-        for (int ch = 0; ch < 3; ++ch) mine.at(x, h - 1 - y, ch) = img.at(x, y)[ch];
+    const ImageBuffer mine = f->image();
     int fx = 0, fy = 0;
     if (const int bad = grader::count_non_finite(mine, &fx, &fy))
       throw BadRequest(std::to_string(bad) + " pixels are NaN or infinite", 422);

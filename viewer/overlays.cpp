@@ -1,0 +1,79 @@
+#include "overlays.h"
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+
+#include "grade.h"
+#include "image_io.h"
+#include "pictures.h"
+#include "reference.h"
+#include "requests.h"
+
+namespace pt::viewer {
+
+namespace {
+
+// Pixel i of a w x h image (row 0 at the bottom) coloured into rows from the top.
+std::vector<uint8_t> flip_to_rgb(int w, int h, const std::function<void(size_t i, uint8_t rgb[3])>& colour) {
+  std::vector<uint8_t> out(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) colour(size_t(y) * w + x, &out[(size_t(h - 1 - y) * w + x) * 3]);
+  return out;
+}
+
+}  // namespace
+
+Overlay frame_overlay(const Frame& f, const std::string& kind, int target) {
+  const int w = f.width, h = f.height;
+  Overlay o;
+  if (kind == "render" || kind.empty()) {
+    o.rgb = to_png_bytes(f.image());
+  } else if (kind == "rate") {
+    target = std::max(1, target);
+    o.rgb = flip_to_rgb(w, h, [&](size_t i, uint8_t out[3]) {
+      uint32_t n;
+      std::memcpy(&n, &f.payload[i * 20 + 12], 4);
+      rate_to_rgb(float(n) / float(f.samples > 0 ? f.samples : target), out);
+    });
+  } else if (kind == "tests") {
+    double& scale = o.scale;
+    for (size_t i = 0; i < size_t(w) * h; ++i) scale = std::max(scale, double(f.tests(i)));
+    o.rgb = flip_to_rgb(w, h, [&](size_t i, uint8_t out[3]) {
+      rate_to_rgb(scale > 0 ? float(f.tests(i) / scale) : 0.0f, out);
+    });
+  } else {
+    throw BadRequest("kind: expected render, rate or tests");
+  }
+  return o;
+}
+
+Difference difference_overlay(const Frame& f, const RenderOptions& opts, const ViewerCase& vc,
+                              const std::string& reference_dir) {
+  const std::string& name = vc.c.name;
+  RenderOptions shown = opts;
+  shown.samples_per_pixel = f.samples;
+  if (image_key(shown) != image_key(vc.opts) || opts.cell_set)
+    throw BadRequest("this render's settings are not case " + name + "'s: apply the case's settings first", 409);
+  grader::Reference ref;
+  std::string why;
+  if (!grader::load_reference(reference_dir, vc.c, &ref, &why)) throw BadRequest(name + ": " + why, 404);
+  const int w = f.width, h = f.height;
+  if (ref.mean.width != w || ref.mean.height != h) throw BadRequest(name + ": the reference is another size", 409);
+  const ImageBuffer mine = f.image();
+  int fx = 0, fy = 0;
+  if (const int bad = grader::count_non_finite(mine, &fx, &fy))
+    throw BadRequest(std::to_string(bad) + " pixels are NaN or infinite", 422);
+  const grader::ImageScore sc =
+      grader::score_image(mine, ref.mean, ref.variance, ref.runs, grader::case_score_options(vc.c, ref));
+  // Deterministic references measure |c - m| in tolerances: 1 is the limit.
+  const double threshold = sc.deterministic ? 1.0 : sc.pixel_threshold;
+  const grader::Picture pic = grader::error_picture(sc.pixel_z, w, h, threshold);
+  Difference d;
+  d.picture.rgb = std::vector<uint8_t>(pic.rgb.begin(), pic.rgb.end());
+  d.picture.scale = threshold;
+  d.verdict = (sc.passed ? "matches the reference: " : "differs from the reference: ") + sc.summary();
+  return d;
+}
+
+}  // namespace pt::viewer

@@ -1,0 +1,52 @@
+// The server's state, shared by its routes, and what a route that starts
+// or reads a job needs. server.cpp registers the routes (add_*_routes);
+// a file of new routes declares its own add_ function here and is
+// registered in run_server.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <httplib.h>
+
+#include "scenes.h"
+#include "server.h"
+#include "viewer_cases.h"
+#include "workers.h"
+
+namespace pt::viewer {
+
+struct App {
+  ServerConfig cfg;
+  Workers workers;
+  SceneCache scenes;
+  std::string temp_dir;
+  std::atomic<uint64_t> camera_files{0};
+  std::vector<ViewerCase> cases;
+
+  explicit App(ServerConfig c) : cfg(std::move(c)), workers(cfg.worker_exe) {}
+};
+
+// Starts a job of `kind` ("render", "normals" or "bvh") for the request's
+// settings (cancelling the running one of that kind) and replies with its
+// status.
+void start_job(App& app, const std::string& kind, const httplib::Request& req, httplib::Response& res);
+
+// The job of the request's ?job= (404 when it is gone).
+std::shared_ptr<Job> find_job(App& app, const httplib::Request& req);
+
+// That job and its latest frame (404 when it has none yet).
+std::pair<std::shared_ptr<Job>, std::shared_ptr<const Frame>> job_frame(App& app, const httplib::Request& req);
+
+// Whether the server is stopping (SIGINT or SIGTERM): long polls return.
+bool server_stopping();
+
+void add_page_routes(httplib::Server& svr, App& app);
+void add_scene_routes(httplib::Server& svr, App& app);
+void add_render_routes(httplib::Server& svr, App& app);
+void add_bvh_routes(httplib::Server& svr, App& app);
+
+}  // namespace pt::viewer

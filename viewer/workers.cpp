@@ -1,0 +1,352 @@
+#include "workers.h"
+
+#include <cxxabi.h>
+#include <cerrno>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "requests.h"
+
+extern char** environ;
+
+namespace pt::viewer {
+
+namespace {
+
+std::string num(double v) { return pt::json_number(v); }
+
+bool read_exact(int fd, void* data, size_t n) {
+  char* p = static_cast<char*>(data);
+  while (n > 0) {
+    const ssize_t r = ::read(fd, p, n);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) return false;
+    p += r;
+    n -= size_t(r);
+  }
+  return true;
+}
+
+bool read_line(int fd, std::string* line, size_t limit = 1 << 16) {
+  line->clear();
+  char c;
+  while (true) {
+    const ssize_t r = ::read(fd, &c, 1);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) return false;
+    if (c == '\n') return true;
+    if (line->size() < limit) line->push_back(c);
+  }
+}
+
+// "viewer(_ZN2pt18intersect_triangleERKNS_3RayE+0x2a) [0x55d1]" -> "intersect_triangle".
+std::string frame_function(const std::string& line) {
+  const size_t open = line.find('('), plus = line.find('+', open == std::string::npos ? 0 : open);
+  if (open == std::string::npos || plus == std::string::npos || plus <= open + 1) return "";
+  const std::string mangled = line.substr(open + 1, plus - open - 1);
+  int status = 0;
+  char* d = abi::__cxa_demangle(mangled.c_str(), nullptr, nullptr, &status);
+  if (status != 0 || !d) {
+    std::free(d);
+    return "";
+  }
+  std::string name = d;
+  std::free(d);
+  if (name.rfind("pt::", 0) != 0) return "";
+  if (name.find("on_fault") != std::string::npos) return "";
+  // Drop the parameter list and the namespaces.
+  int depth = 0;
+  size_t cut = name.size();
+  for (size_t i = 0; i < name.size(); ++i) {
+    if (name[i] == '(' && depth == 0) {
+      cut = i;
+      break;
+    }
+    if (name[i] == '<') ++depth;
+    if (name[i] == '>') --depth;
+  }
+  name = name.substr(0, cut);
+  const size_t colons = name.rfind("::");
+  return colons == std::string::npos ? name : name.substr(colons + 2);
+}
+
+// Starts `args` (args[0] the program) in its own process group with
+// stdin from /dev/null; its stdout and stderr come back in *out_fd and
+// *err_fd. Returns posix_spawn's error (0: started, *pid set).
+int spawn_worker(std::vector<std::string> args, pid_t* pid, int* out_fd, int* err_fd) {
+  int out[2], err[2];
+  if (pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("cannot create a pipe");
+  if (pipe2(err, O_CLOEXEC) != 0) {
+    ::close(out[0]);
+    ::close(out[1]);
+    throw std::runtime_error("cannot create a pipe");
+  }
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&fa, out[1], 1);
+  posix_spawn_file_actions_adddup2(&fa, err[1], 2);
+  posix_spawn_file_actions_addclosefrom_np(&fa, 3);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  // Its own process group, so that anything it starts dies with it.
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
+  const int rc = posix_spawn(pid, args[0].c_str(), &fa, &attr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&attr);
+  ::close(out[1]);
+  ::close(err[1]);
+  if (rc != 0) {
+    ::close(out[0]);
+    ::close(err[0]);
+    return rc;
+  }
+  *out_fd = out[0];
+  *err_fd = err[0];
+  return 0;
+}
+
+// The worker's stderr: TODO lines, a crash's signal and backtrace, errors,
+// and the last lines for the page's log.
+void read_worker_stderr(const std::shared_ptr<Job>& job, int err_fd) {
+  std::string line;
+  bool in_backtrace = false;
+  while (read_line(err_fd, &line)) {
+    std::lock_guard<std::mutex> lock(job->mu);
+    if (line.rfind("TODO: implement ", 0) == 0) {
+      const std::string what = line.substr(16);
+      if (std::find(job->todo.begin(), job->todo.end(), what) == job->todo.end()) job->todo.push_back(what);
+      job->cv.notify_all();
+    } else if (line.rfind("CRASH ", 0) == 0) {
+      job->crash_signal = line.substr(6);
+      in_backtrace = true;
+    } else if (in_backtrace) {
+      if (job->crash_function.empty()) job->crash_function = frame_function(line);
+    } else if (line.rfind("ERROR ", 0) == 0) {
+      if (job->message.empty()) job->message = line.substr(6);
+    } else if (line.rfind("pathtracer: error: ", 0) == 0) {
+      job->message = line.substr(19);
+    }
+    if (!in_backtrace) {
+      job->log.push_back(line);
+      if (job->log.size() > 20) job->log.erase(job->log.begin());
+    }
+  }
+  ::close(err_fd);
+}
+
+// The worker's stdout: frames and the BVH, until DONE or a message that
+// does not parse. Returns whether it said DONE.
+bool read_worker_stdout(const std::shared_ptr<Job>& job, int out_fd) {
+  bool done = false;
+  std::string line;
+  while (read_line(out_fd, &line)) {
+    if (line == "DONE") {
+      done = true;
+      continue;
+    }
+    const size_t space = line.find(' ');
+    if (space == std::string::npos) break;
+    const std::string tag = line.substr(0, space);
+    Json head;
+    try {
+      head = pt::parse_json(line.substr(space + 1), "worker message");
+    } catch (const std::exception&) {
+      break;
+    }
+    const double bytes = head.num("bytes", -1);
+    if (!(bytes >= 0 && bytes < 4e9)) break;
+    auto payload = std::make_shared<std::vector<uint8_t>>(size_t(bytes));
+    if (!read_exact(out_fd, payload->data(), payload->size())) break;
+    if (tag == "FRAME") {
+      auto f = std::make_shared<Frame>();
+      f->kind = head.str("kind", "render");
+      f->width = int(head.num("width"));
+      f->height = int(head.num("height"));
+      f->samples = int(head.num("samples"));
+      f->pass = int(head.num("pass"));
+      if (size_t(f->width) * size_t(f->height) * 20 != payload->size()) break;
+      f->payload = std::move(*payload);
+      f->head = std::move(head);
+      std::lock_guard<std::mutex> lock(job->mu);
+      job->passes.push_back(f->samples);
+      job->frame = std::move(f);
+      ++job->frames;
+      job->cv.notify_all();
+    } else if (tag == "BVH") {
+      std::lock_guard<std::mutex> lock(job->mu);
+      job->bvh_head = line.substr(space + 1);
+      job->bvh = payload;
+    }
+  }
+  ::close(out_fd);
+  return done;
+}
+
+// How the worker ended (its wait status, whether it said DONE) as the
+// job's state and message: a crash names the function it crashed in.
+void record_end(Job& job, int status, bool done) {
+  std::lock_guard<std::mutex> lock(job.mu);
+  const std::string doing = job.kind == "bvh" ? "building the BVH" : "rendering";
+  if (job.cancel_requested) {
+    job.state = "cancelled";
+  } else if (WIFSIGNALED(status)) {
+    job.state = "crashed";
+    const std::string sig = !job.crash_signal.empty() ? job.crash_signal : strsignal(WTERMSIG(status));
+    const std::string who = job.crash_function.empty() ? "the worker" : job.crash_function;
+    job.message = who + " crashed: " + sig + " while " + doing;
+  } else if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && done) {
+    job.state = "done";
+  } else {
+    job.state = "failed";
+    if (job.message.empty())
+      job.message = "the worker stopped while " + doing + " (exit status " +
+                    std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")";
+  }
+  job.cv.notify_all();
+}
+
+// Reads the worker's two streams until it ends, then records how it ended.
+void watch(std::shared_ptr<Job> job, int out_fd, int err_fd) {
+  std::thread err_reader([job, err_fd] { read_worker_stderr(job, err_fd); });
+  const bool done = read_worker_stdout(job, out_fd);
+  err_reader.join();
+  pid_t pid;
+  {
+    std::lock_guard<std::mutex> lock(job->mu);
+    pid = job->pid;
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  ::kill(-pid, SIGKILL);  // anything it left behind in its group
+  record_end(*job, status, done);
+}
+
+}  // namespace
+
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void Workers::enter(const std::shared_ptr<Job>& job) {
+  std::lock_guard<std::mutex> lock(mu_);
+  job->id = ++next_id_;
+  // One job of each kind at a time: a new one stops the one before.
+  auto& previous = latest_[job->kind];
+  if (previous) cancel(previous);
+  previous = job;
+  if (job->kind == "render") current_ = job;
+  jobs_[job->id] = job;
+  // Keep the last few jobs' results for the page (and every kind's
+  // latest); forget the rest.
+  for (auto it = jobs_.begin(); jobs_.size() > 8 && it != jobs_.end();) {
+    bool latest = false;
+    for (const auto& [k, j] : latest_) latest = latest || j == it->second;
+    it = latest ? std::next(it) : jobs_.erase(it);
+  }
+}
+
+std::shared_ptr<Job> Workers::start(const std::string& kind, const RenderOptions& opts,
+                                    const std::vector<std::string>& flags) {
+  auto job = std::make_shared<Job>();
+  job->kind = kind;
+  job->opts = opts;
+  job->started = job->last_seen = now_seconds();
+  enter(job);
+  std::vector<std::string> args = {exe_, "--worker", kind == "bvh" ? "bvh" : "render"};
+  args.insert(args.end(), flags.begin(), flags.end());
+  pid_t pid = -1;
+  int out_fd = -1, err_fd = -1;
+  if (const int rc = spawn_worker(std::move(args), &pid, &out_fd, &err_fd)) {
+    std::lock_guard<std::mutex> lock(job->mu);
+    job->state = "failed";
+    job->message = "cannot start the worker " + exe_ + ": " + std::strerror(rc);
+    return job;
+  }
+  {
+    std::lock_guard<std::mutex> lock(job->mu);
+    job->pid = pid;
+  }
+  std::thread([job, out_fd, err_fd] { watch(job, out_fd, err_fd); }).detach();
+  return job;
+}
+
+std::shared_ptr<Job> Workers::find(uint64_t id) {
+  std::lock_guard<std::mutex> lock(mu_);
+  auto it = jobs_.find(id);
+  return it == jobs_.end() ? nullptr : it->second;
+}
+
+std::shared_ptr<Job> Workers::current() {
+  std::lock_guard<std::mutex> lock(mu_);
+  return current_;
+}
+
+void Workers::stop_current() {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (current_) cancel(current_);
+}
+
+void Workers::stop_unwatched(double seconds) {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (!current_) return;
+  bool stale;
+  {
+    std::lock_guard<std::mutex> jl(current_->mu);
+    stale = current_->state == "running" && now_seconds() - current_->last_seen > seconds;
+  }
+  if (stale) cancel(current_);
+}
+
+void Workers::stop_all() {
+  std::lock_guard<std::mutex> lock(mu_);
+  for (auto& [id, job] : jobs_) cancel(job);
+}
+
+void Workers::cancel(const std::shared_ptr<Job>& job) {
+  std::lock_guard<std::mutex> lock(job->mu);
+  if (job->state != "running") return;
+  job->cancel_requested = true;
+  if (job->pid > 0) ::kill(-job->pid, SIGKILL);
+}
+
+std::string job_json(Job& job) {
+  // Called with job.mu held.
+  std::ostringstream s;
+  s << "{\"job\":" << job.id << ",\"kind\":" << json_quote(job.kind) << ",\"state\":" << json_quote(job.state)
+    << ",\"message\":" << json_quote(job.message) << ",\"frames\":" << job.frames << ",\"todo\":[";
+  for (size_t i = 0; i < job.todo.size(); ++i) s << (i ? "," : "") << json_quote(job.todo[i]);
+  s << "],\"log\":[";
+  for (size_t i = 0; i < job.log.size(); ++i) s << (i ? "," : "") << json_quote(job.log[i]);
+  s << "],\"passes\":[";
+  for (size_t i = 0; i < job.passes.size(); ++i) s << (i ? "," : "") << job.passes[i];
+  s << "],\"target\":" << job.opts.samples_per_pixel << ",\"settings\":" << settings_json(job.opts);
+  if (job.frame) {
+    const Json& h = job.frame->head;
+    s << ",\"frame\":{\"pass\":" << job.frame->pass << ",\"samples\":" << job.frame->samples
+      << ",\"width\":" << job.frame->width << ",\"height\":" << job.frame->height << ",\"rays\":" << num(h.num("rays"))
+      << ",\"tests\":" << num(h.num("tests")) << ",\"nodes\":" << num(h.num("nodes"))
+      << ",\"seconds\":" << num(h.num("seconds")) << ",\"elapsed\":" << num(h.num("elapsed"))
+      << ",\"used_bvh\":" << (h.flag("used_bvh") ? "true" : "false") << "}";
+  }
+  s << ",\"wall\":" << num(now_seconds() - job.started) << "}";
+  return s.str();
+}
+
+
+}  // namespace pt::viewer

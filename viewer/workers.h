@@ -1,0 +1,107 @@
+// The server's side of the worker processes (worker.h): a job is one
+// worker, started from this binary with the flags of its render; its
+// messages (frames, a BVH, TODO lines, a crash's backtrace) are read as
+// they come, and how it ended becomes the job's state and message.
+#pragma once
+#include <sys/types.h>
+
+#include <condition_variable>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "image.h"
+#include "json.h"
+#include "options.h"
+
+namespace pt::viewer {
+
+// One pass of a render as the worker sent it.
+struct Frame {
+  std::string kind;  // "render"
+  Json head;
+  int width = 0, height = 0, samples = 0, pass = 0;
+  std::vector<uint8_t> payload;  // 20 bytes per pixel (worker.h)
+
+  ImageBuffer image() const {
+    ImageBuffer img(width, height);
+    for (size_t i = 0; i < img.pixels.size(); ++i) {
+      std::memcpy(&img.pixels[i], &payload[i * 20], 12);
+      std::memcpy(&img.samples[i], &payload[i * 20 + 12], 4);
+    }
+    return img;
+  }
+  float tests(size_t i) const {
+    float t;
+    std::memcpy(&t, &payload[i * 20 + 16], 4);
+    return t;
+  }
+};
+
+
+// One worker process and what it has said.
+struct Job {
+  uint64_t id = 0;
+  std::string kind;  // "render", "normals" (one pass of normal shading) or "bvh"
+  RenderOptions opts;
+  pid_t pid = -1;
+
+  std::mutex mu;
+  std::condition_variable cv;
+  std::string state = "running";  // running, done, failed, crashed, cancelled
+  std::string message;
+  std::vector<std::string> todo;      // "Part 1: raytrace_pixel (stages/...)"
+  std::vector<std::string> log;       // the last lines of its stderr
+  std::shared_ptr<const Frame> frame; // the latest render pass
+  int frames = 0;
+  std::vector<int> passes;            // the samples per pixel of every pass so far
+  std::string bvh_head;               // the BVH message's JSON
+  std::shared_ptr<const std::vector<uint8_t>> bvh;
+  bool cancel_requested = false;
+  std::string crash_signal, crash_function;
+  double started = 0;
+  double last_seen = 0;  // the last status request for it
+};
+
+// Seconds on a steady clock.
+double now_seconds();
+
+// The jobs: at most one running of each kind, the last few kept for the page.
+class Workers {
+ public:
+  explicit Workers(std::string exe) : exe_(std::move(exe)) {}
+
+  // Starts a job of `kind` ("render", "normals" or "bvh") for `opts` with
+  // `flags`; it replaces (and stops) the running job of the same kind.
+  std::shared_ptr<Job> start(const std::string& kind, const RenderOptions& opts, const std::vector<std::string>& flags);
+
+  std::shared_ptr<Job> find(uint64_t id);
+  std::shared_ptr<Job> current();
+  void stop_current();
+  // Stops the current render when no page has asked about it for
+  // `seconds`: a closed tab leaves no render running.
+  void stop_unwatched(double seconds);
+  void stop_all();
+
+  static void cancel(const std::shared_ptr<Job>& job);
+
+ private:
+  // Files `job` under its id as its kind's latest, stopping the one before.
+  void enter(const std::shared_ptr<Job>& job);
+
+  std::string exe_;
+  std::mutex mu_;
+  uint64_t next_id_ = 0;
+  std::map<uint64_t, std::shared_ptr<Job>> jobs_;
+  std::map<std::string, std::shared_ptr<Job>> latest_;  // by kind
+  std::shared_ptr<Job> current_;                        // the render
+};
+
+// The job as the page's status object. Called with job.mu held.
+std::string job_json(Job& job);
+
+}  // namespace pt::viewer

@@ -31,6 +31,7 @@
 #include "camera_file.h"
 #include "case_list.h"
 #include "collada.h"
+#include "debug_api.h"
 #include "grade.h"
 #include "pictures.h"
 #include "reference.h"
@@ -306,6 +307,8 @@ struct Job {
   std::vector<int> passes;            // the samples per pixel of every pass so far
   std::string bvh_head;               // the BVH message's JSON
   std::shared_ptr<const std::vector<uint8_t>> bvh;
+  int result_status = 0;              // a debug job's answer: HTTP status and JSON
+  std::string result;
   bool cancel_requested = false;
   std::string crash_signal, crash_function;
   double started = 0;
@@ -399,7 +402,7 @@ class Workers {
         it = latest ? std::next(it) : jobs_.erase(it);
       }
     }
-    std::vector<std::string> args = {exe_, "--worker", kind == "bvh" ? "bvh" : "render"};
+    std::vector<std::string> args = {exe_, "--worker", kind == "normals" ? "render" : kind};
     args.insert(args.end(), flags.begin(), flags.end());
     int out[2], err[2];
     if (pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("cannot create a pipe");
@@ -549,6 +552,10 @@ class Workers {
         std::lock_guard<std::mutex> lock(job->mu);
         job->bvh_head = line.substr(space + 1);
         job->bvh = payload;
+      } else if (tag == "RESULT") {
+        std::lock_guard<std::mutex> lock(job->mu);
+        job->result_status = int(head.num("status", 500));
+        job->result.assign(payload->begin(), payload->end());
       }
     }
     ::close(out_fd);
@@ -563,7 +570,7 @@ class Workers {
     }
     ::kill(-pid, SIGKILL);  // anything it left behind in its group
     std::lock_guard<std::mutex> lock(job->mu);
-    const std::string doing = job->kind == "bvh" ? "building the BVH" : "rendering";
+    const std::string doing = job->kind == "bvh" ? "building the BVH" : job->kind == "debug" ? "debugging" : "rendering";
     if (job->cancel_requested) {
       job->state = "cancelled";
     } else if (WIFSIGNALED(status)) {
@@ -1001,8 +1008,10 @@ int run_server(ServerConfig cfg) {
   }));
 
   // Starts a render (cancelling the running one) or a BVH build.
-  auto start_job = [&](const std::string& kind, const httplib::Request& req, httplib::Response& res) {
-    Request q = read_request(body_json(req), c.start, c.files);
+  // Starts a worker job of `kind` for the page's settings `body`; `pre`
+  // goes before the flags (a debug job's tool and input).
+  auto launch = [&](const std::string& kind, const Json& body, const std::vector<std::string>& pre) {
+    Request q = read_request(body, c.start, c.files);
     if (kind == "normals") {
       q.opts.part = std::min(q.opts.part, 2);
       q.opts.samples_per_pixel = 1;
@@ -1021,10 +1030,40 @@ int run_server(ServerConfig cfg) {
       std::ofstream(path) << camera_settings_text(cam);
       q.opts.camera_settings = path;
     }
-    auto job = app.workers.start(kind, q.opts, render_flags(q.opts));
+    std::vector<std::string> flags = pre;
+    for (const std::string& f : render_flags(q.opts)) flags.push_back(f);
+    return app.workers.start(kind, q.opts, flags);
+  };
+  auto start_job = [&](const std::string& kind, const httplib::Request& req, httplib::Response& res) {
+    auto job = launch(kind, body_json(req), {});
     std::lock_guard<std::mutex> lock(job->mu);
     send_json(res, job_json(*job));
   };
+  // Debug mode (debug_api.h): one tool's call in a worker with the page's
+  // settings; answers with the tool's result, the reason its input was
+  // refused (400), or how the worker ended (a crash names the function).
+  svr.Post(R"(/api/debug/([a-z]+))", guarded([&](const httplib::Request& req, httplib::Response& res) {
+    const std::string tool = req.matches[1];
+    if (!is_debug_tool(tool)) throw BadRequest("no debug tool named '" + tool + "'", 404);
+    const Json body = body_json(req);
+    const Json* in = body.get("debug");
+    if (!in || in->type != Json::Type::Object) throw BadRequest("debug: expected the tool's input (an object)");
+    auto job = launch("debug", body, {tool, write_json(*in)});
+    std::unique_lock<std::mutex> lock(job->mu);
+    const bool ended = job->cv.wait_for(lock, std::chrono::seconds(300), [&] { return job->state != "running" || g_stop; });
+    if (job->state == "done" && job->result_status > 0) return send_json(res, job->result, job->result_status);
+    std::string todo = "[";
+    for (size_t i = 0; i < job->todo.size(); ++i) todo += (i ? "," : "") + json_quote(job->todo[i]);
+    const std::string message = !ended ? "the debugger took more than 300 s (stopped)"
+                                : job->state == "cancelled" ? "replaced by a newer Debug mode call"
+                                : job->message;
+    const int status = job->state == "cancelled" && ended ? 409 : 500;
+    const std::string state = job->state;
+    lock.unlock();
+    if (!ended) Workers::cancel(job);
+    send_json(res, "{\"error\":" + json_quote(message) + ",\"state\":" + json_quote(state) + ",\"todo\":" + todo + "]}",
+              status);
+  }));
   svr.Post("/api/render", guarded([&](const httplib::Request& req, httplib::Response& res) { start_job("render", req, res); }));
   svr.Post("/api/normals", guarded([&](const httplib::Request& req, httplib::Response& res) { start_job("normals", req, res); }));
   svr.Post("/api/bvh", guarded([&](const httplib::Request& req, httplib::Response& res) { start_job("bvh", req, res); }));

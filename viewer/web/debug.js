@@ -26,6 +26,11 @@ function f(x) {
   if (Number.isInteger(x) && Math.abs(x) < 1e9) return String(x);
   return Number(x).toPrecision(6).replace(/(\.\d*?)0+(e|$)/, '$1$2').replace(/\.(e|$)/, '$1');
 }
+// A colour: one number when its channels are equal (grey), else three.
+function fc(c) {
+  if (Array.isArray(c) && c.length === 3 && c[0] === c[1] && c[1] === c[2]) return f(c[0]);
+  return f(c);
+}
 const num = (x) => (typeof x === 'string' ? (x === 'inf' ? Infinity : x === '-inf' ? -Infinity : NaN) : x);
 const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
 const scale = (a, k) => [a[0] * k, a[1] * k, a[2] * k];
@@ -188,7 +193,7 @@ export function create(viewer, hooks) {
     const t = el('table', {class: 'steps', id: 'dbg-lights-table'});
     t.append(el('tr', {}, ...['#', 'u', 'wi', 'distance', 'pdf', 'radiance', 'cos θ', 'shadow'].map((h) => el('th', {}, h))));
     r.samples.slice(0, 32).forEach((s, i) => t.append(el('tr', {},
-      ...[i, f(s.u), f(s.wi), f(s.distance), f(s.pdf), f(s.radiance), f(s.cos_theta),
+      ...[i, f(s.u), f(s.wi), f(s.distance), f(s.pdf), fc(s.radiance), f(s.cos_theta),
           s.shadow_tested ? (s.blocked ? 'blocked' : 'lit') : 'not traced'].map((v) => el('td', {}, v)))));
     out.append(t);
     if (n > 32) out.append(el('div', {class: 'note'}, `the first 32 of ${n} samples; all are drawn`));
@@ -227,9 +232,9 @@ export function create(viewer, hooks) {
   function showPath(out, r) {
     const top = [['pixel', `(${r.pixel[0]}, ${r.pixel[1]}), sample ${r.sample} of ${r.samples_per_pixel}, seed ${r.seed}, part ${r.part}`],
                  ['camera ray', `${f(r.camera_ray.origin)} → ${f(r.camera_ray.direction)}`],
-                 ['zero bounce (emission seen)', f(r.zero_bounce)],
-                 ['total (returned)', f(r.returned)],
-                 ['sum of the steps', f(r.sum_of_contributions)],
+                 ['zero bounce (emission seen)', fc(r.zero_bounce)],
+                 ['total (returned)', fc(r.returned)],
+                 ['sum of the steps', fc(r.sum_of_contributions)],
                  ['agrees', r.exact ? 'yes, exactly' : r.agrees ? 'yes, within rounding' : 'NO: the estimator computed something else',
                   r.agrees ? '' : 'error'],
                  ['end', r.end]];
@@ -242,11 +247,11 @@ export function create(viewer, hooks) {
                                 'roulette', 'path weight', 'radiance added'].map((h) => el('th', {}, h))));
     for (const s of r.steps) {
       const ls = el('div', {class: 'samples'});
-      ls.append(el('div', {}, `${s.estimator || 'no estimate'}: ${f(s.direct)}${s.direct_counted === false ? ' (not counted)' : ''}`));
+      ls.append(el('div', {}, `${s.estimator || 'no estimate'}: ${fc(s.direct)}${s.direct_counted === false ? ' (not counted)' : ''}`));
       for (const l of s.light_samples || []) {
         ls.append(el('div', {class: l.verdict === 'lit' ? 'lit' : 'dark'},
-          `light ${l.light}: pdf ${f(l.pdf)}, L ${f(l.radiance)}, cos ${f(l.cos_theta)}, f ${f(l.bsdf)} → ${l.verdict}` +
-          (l.verdict === 'lit' ? `, f·L·cos/pdf ${f(l.contribution)}` : '')));
+          `light ${l.light}: pdf ${f(l.pdf)}, L ${fc(l.radiance)}, cos θ ${f(l.cos_theta)}, f ${fc(l.bsdf)} → ${l.verdict}` +
+          (l.verdict === 'lit' ? `, f·L·cos θ/pdf ${fc(l.contribution)}` : '')));
       }
       const hs = s.hemisphere_samples || [];
       if (hs.length) ls.append(el('div', {}, `${hs.length} hemisphere probes, ${hs.filter((p) => p.hit).length} hit`));
@@ -255,14 +260,16 @@ export function create(viewer, hooks) {
       const roulette = rr && rr.applies ? `draw ${f(rr.draws)} vs continue ${f(rr.continue_probability)}` : 'none';
       const row = el('tr', {'data-bounce': s.bounce},
         el('td', {}, s.bounce), el('td', {}, f(s.point)), el('td', {}, f(s.normal)), el('td', {}, s.material),
-        el('td', {}, ls), el('td', {}, b ? f(b.f) : '—'), el('td', {}, b ? f(b.cos_theta) : '—'),
-        el('td', {}, b ? f(b.pdf) : '—'), el('td', {}, roulette), el('td', {}, f(s.path_weight)),
-        el('td', {class: 'added'}, f(s.radiance_added)));
+        el('td', {}, ls), el('td', {}, b ? fc(b.f) : '—'), el('td', {}, b ? f(b.cos_theta) : '—'),
+        el('td', {}, b ? f(b.pdf) : '—'), el('td', {}, roulette), el('td', {}, fc(s.path_weight)),
+        el('td', {class: 'added'}, fc(s.radiance_added)));
       tbl.append(row);
     }
     tbl.append(el('tr', {class: 'total'}, el('td', {colspan: 10}, 'total: zero bounce + radiance added, in order'),
-                  el('td', {id: 'dbg-path-total'}, f(r.returned))));
+                  el('td', {id: 'dbg-path-total'}, fc(r.returned))));
     out.append(tbl);
+    out.append(el('div', {class: 'note'}, 'Colours with equal channels show one number. radiance added = path weight × direct; ' +
+                  'the next path weight = path weight × f × cos θ / pdf (÷ the continue probability when roulette applies).'));
   }
 
   function drawPath(r) {
@@ -329,6 +336,13 @@ export function create(viewer, hooks) {
 
   return {
     show() {
+      // The first time: step back from the render's camera, so that the
+      // camera and the rays leaving it are in view.
+      if (state.viewFor !== viewer.settings.scene) {
+        state.viewFor = viewer.settings.scene;
+        viewer.view3d.orbit(140, 40);
+        viewer.view3d.zoom(1.6);
+      }
       defaults();
       copyRender();
       showTool(state.tool);

@@ -644,7 +644,7 @@ cases.debug_tools = async () => {
     if (shown.length === 1) shown = [shown[0], shown[0], shown[0]];  // a grey: one number
     check(shown.length === 3 && shown.every((x, i) => Math.abs(x - want[i]) <= 1e-5 * Math.max(1, Math.abs(want[i]))),
           'the table\'s total shows the pixel\'s value', totalText);
-    const firstRow = await page.locator('#dbg-path-table tr[data-bounce="1"]').textContent();
+    const firstRow = await page.locator('#dbg-path-table tr[data-bounce="1"] + tr.sub').textContent();
     check(/pdf/.test(firstRow) && /(lit|blocked)/.test(firstRow), 'a step lists its light samples with pdf and verdict', firstRow);
     const cam = await page.evaluate(() => window.viewer.scene.camera.position);
     const seg0 = r.segments[0];

@@ -243,11 +243,21 @@ export function create(viewer, hooks) {
     const t = kv(out, top);
     t.id = 'dbg-path-summary';
     const tbl = el('table', {class: 'steps', id: 'dbg-path-table'});
-    tbl.append(el('tr', {}, ...['bounce', 'hit point', 'normal', 'material', 'direct (light samples)', 'f', 'cos θ', 'pdf',
-                                'roulette', 'path weight', 'radiance added'].map((h) => el('th', {}, h))));
+    const heads = ['bounce', 'hit point', 'normal', 'material', 'direct', 'f', 'cos θ', 'pdf', 'roulette', 'path weight',
+                   'radiance added'];
+    tbl.append(el('tr', {}, ...heads.map((h) => el('th', {}, h))));
     for (const s of r.steps) {
-      const ls = el('div', {class: 'samples'});
-      ls.append(el('div', {}, `${s.estimator || 'no estimate'}: ${fc(s.direct)}${s.direct_counted === false ? ' (not counted)' : ''}`));
+      const b = s.bsdf_sample;
+      const rr = s.roulette;
+      const roulette = rr && rr.applies ? `${f(rr.draws)} vs ${f(rr.continue_probability)}` : '—';
+      const direct = `${fc(s.direct)}${s.direct_counted === false ? ' (not counted)' : ''}`;
+      tbl.append(el('tr', {'data-bounce': s.bounce},
+        el('td', {}, s.bounce), el('td', {}, f(s.point)), el('td', {}, f(s.normal)),
+        el('td', {}, `${s.material} #${s.primitive}`), el('td', {}, direct), el('td', {}, b ? fc(b.f) : '—'),
+        el('td', {}, b ? f(b.cos_theta) : '—'), el('td', {}, b ? f(b.pdf) : '—'), el('td', {}, roulette),
+        el('td', {}, fc(s.path_weight)), el('td', {class: 'added'}, fc(s.radiance_added))));
+      // The light samples (or hemisphere probes) of the direct estimate, under the step.
+      const ls = el('div', {class: 'samples'}, `${s.estimator || 'no direct estimate'}:`);
       for (const l of s.light_samples || []) {
         ls.append(el('div', {class: l.verdict === 'lit' ? 'lit' : 'dark'},
           `light ${l.light}: pdf ${f(l.pdf)}, L ${fc(l.radiance)}, cos θ ${f(l.cos_theta)}, f ${fc(l.bsdf)} → ${l.verdict}` +
@@ -255,17 +265,9 @@ export function create(viewer, hooks) {
       }
       const hs = s.hemisphere_samples || [];
       if (hs.length) ls.append(el('div', {}, `${hs.length} hemisphere probes, ${hs.filter((p) => p.hit).length} hit`));
-      const b = s.bsdf_sample;
-      const rr = s.roulette;
-      const roulette = rr && rr.applies ? `draw ${f(rr.draws)} vs continue ${f(rr.continue_probability)}` : 'none';
-      const row = el('tr', {'data-bounce': s.bounce},
-        el('td', {}, s.bounce), el('td', {}, f(s.point)), el('td', {}, f(s.normal)), el('td', {}, s.material),
-        el('td', {}, ls), el('td', {}, b ? fc(b.f) : '—'), el('td', {}, b ? f(b.cos_theta) : '—'),
-        el('td', {}, b ? f(b.pdf) : '—'), el('td', {}, roulette), el('td', {}, fc(s.path_weight)),
-        el('td', {class: 'added'}, fc(s.radiance_added)));
-      tbl.append(row);
+      tbl.append(el('tr', {class: 'sub'}, el('td', {}), el('td', {colspan: heads.length - 1}, ls)));
     }
-    tbl.append(el('tr', {class: 'total'}, el('td', {colspan: 10}, 'total: zero bounce + radiance added, in order'),
+    tbl.append(el('tr', {class: 'total'}, el('td', {colspan: heads.length - 1}, 'total: zero bounce + radiance added, in order'),
                   el('td', {id: 'dbg-path-total'}, fc(r.returned))));
     out.append(tbl);
     out.append(el('div', {class: 'note'}, 'Colours with equal channels show one number. radiance added = path weight × direct; ' +
@@ -340,8 +342,8 @@ export function create(viewer, hooks) {
       // camera and the rays leaving it are in view.
       if (state.viewFor !== viewer.settings.scene) {
         state.viewFor = viewer.settings.scene;
-        viewer.view3d.orbit(140, 40);
-        viewer.view3d.zoom(1.6);
+        viewer.view3d.orbit(40, 15);
+        viewer.view3d.zoom(3.2);
       }
       defaults();
       copyRender();

@@ -646,6 +646,10 @@ cases.debug_tools = async () => {
           'the table\'s total shows the pixel\'s value', totalText);
     const firstRow = await page.locator('#dbg-path-table tr[data-bounce="1"] + tr.sub').textContent();
     check(/pdf/.test(firstRow) && /(lit|blocked)/.test(firstRow), 'a step lists its light samples with pdf and verdict', firstRow);
+    const matches = await page.locator('#dbg-path-table .match').count();
+    const mismatches = await page.locator('#dbg-path-table .mismatch').count();
+    check(matches >= 1 && mismatches === 0, 'each step\'s direct light equals its light samples\' f·L·cos θ/pdf averaged',
+          `${matches} match, ${mismatches} differ`);
     const cam = await page.evaluate(() => window.viewer.scene.camera.position);
     const seg0 = r.segments[0];
     check(seg0.kind === 'camera' && seg0.from.every((x, i) => Math.abs(x - cam[i]) <= 1e-5 * Math.max(1, Math.abs(cam[i]))),

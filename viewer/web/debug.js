@@ -251,13 +251,21 @@ export function create(viewer, hooks) {
       const rr = s.roulette;
       const roulette = rr && rr.applies ? `${f(rr.draws)} vs ${f(rr.continue_probability)}` : '—';
       const direct = `${fc(s.direct)}${s.direct_counted === false ? ' (not counted)' : ''}`;
-      tbl.append(el('tr', {'data-bounce': s.bounce},
+      const expected = lightEstimate(s);
+      const mismatch = expected && !sameColour(expected, s.direct);
+      tbl.append(el('tr', {'data-bounce': s.bounce, class: mismatch ? 'mismatch' : ''},
         el('td', {}, s.bounce), el('td', {}, f(s.point)), el('td', {}, f(s.normal)),
         el('td', {}, `${s.material} #${s.primitive}`), el('td', {}, direct), el('td', {}, b ? fc(b.f) : '—'),
         el('td', {}, b ? f(b.cos_theta) : '—'), el('td', {}, b ? f(b.pdf) : '—'), el('td', {}, roulette),
         el('td', {}, fc(s.path_weight)), el('td', {class: 'added'}, fc(s.radiance_added))));
       // The light samples (or hemisphere probes) of the direct estimate, under the step.
       const ls = el('div', {class: 'samples'}, `${s.estimator || 'no direct estimate'}:`);
+      if (expected) {
+        ls.append(el('div', {class: mismatch ? 'mismatch' : 'match'},
+          `the light samples' f·L·cos θ/pdf, averaged per light and summed: ${fc(expected)}` +
+          (mismatch ? ` ≠ direct ${fc(s.direct)} (ratio ${f(ratio(s.direct, expected))}): the estimate returned ` +
+                      'something else than the light samples give' : ' = direct')));
+      }
       for (const l of s.light_samples || []) {
         ls.append(el('div', {class: l.verdict === 'lit' ? 'lit' : 'dark'},
           `light ${l.light}: pdf ${f(l.pdf)}, L ${fc(l.radiance)}, cos θ ${f(l.cos_theta)}, f ${fc(l.bsdf)} → ${l.verdict}` +
@@ -272,6 +280,31 @@ export function create(viewer, hooks) {
     out.append(tbl);
     out.append(el('div', {class: 'note'}, 'Colours with equal channels show one number. radiance added = path weight × direct; ' +
                   'the next path weight = path weight × f × cos θ / pdf (÷ the continue probability when roulette applies).'));
+  }
+
+  // What a light-sampling estimate should return from its samples: for each
+  // light, the mean of f·L·cos θ/pdf over the samples drawn (blocked and
+  // skipped ones count as zero), summed over the lights. Null when there is
+  // nothing to check (hemisphere sampling, no samples).
+  function lightEstimate(s) {
+    if (s.estimator !== 'light sampling' || !(s.light_samples || []).length) return null;
+    const per = new Map();
+    for (const l of s.light_samples) {
+      const e = per.get(l.light) || {n: 0, sum: [0, 0, 0]};
+      e.n += 1;
+      if (l.verdict === 'lit') e.sum = add(e.sum, l.contribution.map(num));
+      per.set(l.light, e);
+    }
+    let total = [0, 0, 0];
+    for (const e of per.values()) total = add(total, scale(e.sum, 1 / e.n));
+    return total.map(Math.fround);
+  }
+  function sameColour(a, b) {
+    return a.every((x, i) => Math.abs(x - num(b[i])) <= 1e-5 * Math.max(Math.abs(x), Math.abs(num(b[i])), 1e-30) || x === num(b[i]));
+  }
+  function ratio(a, b) {
+    const i = [0, 1, 2].reduce((k, j) => (Math.abs(b[j]) > Math.abs(b[k]) ? j : k), 0);
+    return num(a[i]) / b[i];
   }
 
   function drawPath(r) {

@@ -603,10 +603,11 @@ async function openDebug(page) {
 cases.debug_tools = async () => {
   const v = await startViewer(args.viewer, [...DEBUG_FLAGS, SCENE()]);
   const b = await openBrowser();
+  // PNG artefacts; --publish DIR: the README's picture (a JPEG) of the path inspector.
   const shoot = async (name) => {
     const clip = {x: 0, y: 0, width: 1400, height: 900};
     await b.page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
-    if (args.publish) {
+    if (args.publish && name.endsWith('.jpg')) {
       fs.mkdirSync(args.publish, {recursive: true});
       await b.page.screenshot({path: path.join(args.publish, name), type: 'jpeg', quality: 82, clip});
     }
@@ -657,7 +658,7 @@ cases.debug_tools = async () => {
     check(seg0.to.every((x, i) => x === r.steps[0].point[i]), 'the camera segment ends at the first hit');
     const drawn = await page.evaluate(() => window.viewer.debug.overlay.group.children.length);
     check(drawn >= 3, 'the path is drawn in the 3D view', String(drawn));
-    await shoot('debug_path.jpg');
+    await shoot('debug_mode.jpg');
 
     // Intersection tester: typed-in rays against known shapes.
     await page.click('#debug-tabs button[data-tool=intersect]');

@@ -243,8 +243,7 @@ export function create(viewer, hooks) {
     const t = kv(out, top);
     t.id = 'dbg-path-summary';
     const tbl = el('table', {class: 'steps', id: 'dbg-path-table'});
-    const heads = ['bounce', 'hit point', 'normal', 'material', 'direct', 'f', 'cos θ', 'pdf', 'roulette', 'path weight',
-                   'radiance added'];
+    const heads = ['bounce', 'material', 'direct', 'f', 'cos θ', 'pdf', 'roulette', 'path weight', 'radiance added'];
     tbl.append(el('tr', {}, ...heads.map((h) => el('th', {}, h))));
     for (const s of r.steps) {
       const b = s.bsdf_sample;
@@ -254,12 +253,14 @@ export function create(viewer, hooks) {
       const expected = lightEstimate(s);
       const mismatch = expected && !sameColour(expected, s.direct);
       tbl.append(el('tr', {'data-bounce': s.bounce, class: mismatch ? 'mismatch' : ''},
-        el('td', {}, s.bounce), el('td', {}, f(s.point)), el('td', {}, f(s.normal)),
-        el('td', {}, `${s.material} #${s.primitive}`), el('td', {}, direct), el('td', {}, b ? fc(b.f) : '—'),
+        el('td', {}, s.bounce), el('td', {}, s.material.replace(/-material /, ' ')), el('td', {}, direct), el('td', {}, b ? fc(b.f) : '—'),
         el('td', {}, b ? f(b.cos_theta) : '—'), el('td', {}, b ? f(b.pdf) : '—'), el('td', {}, roulette),
         el('td', {}, fc(s.path_weight)), el('td', {class: 'added'}, fc(s.radiance_added))));
       // The light samples (or hemisphere probes) of the direct estimate, under the step.
-      const ls = el('div', {class: 'samples'}, `${s.estimator || 'no direct estimate'}:`);
+      const ls = el('div', {class: 'samples'});
+      ls.append(el('div', {class: 'hitline'}, `hit point ${f(s.point)}, normal ${f(s.normal)}, primitive ${s.primitive}, ` +
+                   `t ${f(s.t)}`));
+      ls.append(el('div', {}, `${s.estimator || 'no direct estimate'}:`));
       if (expected) {
         ls.append(el('div', {class: mismatch ? 'mismatch' : 'match'},
           `the light samples' f·L·cos θ/pdf, averaged per light and summed: ${fc(expected)}` +

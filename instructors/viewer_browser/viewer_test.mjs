@@ -660,6 +660,16 @@ cases.debug_tools = async () => {
     check(drawn >= 3, 'the path is drawn in the 3D view', String(drawn));
     await shoot('debug_mode.jpg');
 
+    // A hit of the path into the intersection tester: the same ray against
+    // the same primitive hits it at the same t.
+    const step2 = r.steps[1];
+    const picked = await debugCall(page, 'intersect', () =>
+      page.locator('#dbg-path-table tr[data-bounce="2"] + tr.sub button', {hasText: 'test the hit'}).click());
+    check(picked.ok && picked.result.hit && picked.result.primitive === step2.primitive &&
+          picked.result.t === step2.t && sameArrays(picked.result.normal, step2.normal),
+          'a path step picked into the intersection tester: the same primitive hit at the same t and normal',
+          JSON.stringify(picked.result || picked.error));
+
     // Intersection tester: typed-in rays against known shapes.
     await page.click('#debug-tabs button[data-tool=intersect]');
     const typeRay = async (o, d, minT, maxT) => {

@@ -258,8 +258,14 @@ export function create(viewer, hooks) {
         el('td', {}, fc(s.path_weight)), el('td', {class: 'added'}, fc(s.radiance_added))));
       // The light samples (or hemisphere probes) of the direct estimate, under the step.
       const ls = el('div', {class: 'samples'});
-      ls.append(el('div', {class: 'hitline'}, `hit point ${f(s.point)}, normal ${f(s.normal)}, primitive ${s.primitive}, ` +
-                   `t ${f(s.t)}`));
+      const hitline = el('div', {class: 'hitline'}, `hit point ${f(s.point)}, normal ${f(s.normal)}, primitive ${s.primitive}, ` +
+                         `t ${f(s.t)} `);
+      const again = el('button', {class: 'small', title: 'this ray against this primitive, in the intersection tester'}, 'test the hit');
+      again.addEventListener('click', () => pickHit(s));
+      const here = el('button', {class: 'small', title: 'the light-sample tester from this point'}, 'sample lights here');
+      here.addEventListener('click', () => pickPoint(s));
+      hitline.append(again, ' ', here);
+      ls.append(hitline);
       ls.append(el('div', {}, `${s.estimator || 'no direct estimate'}:`));
       if (expected) {
         ls.append(el('div', {class: mismatch ? 'mismatch' : 'match'},
@@ -281,6 +287,27 @@ export function create(viewer, hooks) {
     out.append(tbl);
     out.append(el('div', {class: 'note'}, 'Colours with equal channels show one number. radiance added = path weight × direct; ' +
                   'the next path weight = path weight × f × cos θ / pdf (÷ the continue probability when roulette applies).'));
+  }
+
+  // A step's ray and primitive into the intersection tester; its point and
+  // normal into the light-sample tester.
+  const text3 = (a) => a.map((x) => String(x)).join(', ');
+  function pickHit(s) {
+    $('dbg-shape').value = 'primitive';
+    $('dbg-shape').dispatchEvent(new Event('change'));
+    $('dbg-primitive').value = s.primitive;
+    $('dbg-origin').value = text3(s.ray.origin);
+    $('dbg-direction').value = text3(s.ray.direction);
+    $('dbg-min-t').value = String(s.ray.min_t);
+    $('dbg-max-t').value = String(s.ray.max_t);
+    showTool('intersect');
+    return runIntersect();
+  }
+  function pickPoint(s) {
+    $('dbg-lpoint').value = text3(s.point);
+    $('dbg-lnormal').value = text3(s.normal);
+    showTool('lights');
+    return runLights();
   }
 
   // What a light-sampling estimate should return from its samples: for each

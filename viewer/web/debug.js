@@ -369,8 +369,8 @@ export function create(viewer, hooks) {
   });
 
   const runIntersect = () => { state.lastInput = intersectInput(); return call('intersect', state.lastInput); };
-  const runLights = () => call('lights', lightsInput());
-  const runPath = () => call('path', pathInput());
+  const runLights = () => { defaults(); return call('lights', lightsInput()); };
+  const runPath = () => { limits(); return call('path', pathInput()); };
   $('dbg-intersect-run').addEventListener('click', runIntersect);
   $('dbg-lights-run').addEventListener('click', runLights);
   $('dbg-path-run').addEventListener('click', runPath);
@@ -392,10 +392,19 @@ export function create(viewer, hooks) {
     light.innerHTML = '';
     for (let i = 0; i < sc.lights; ++i) light.add(new Option(String(i), String(i)));
     $('dbg-primitive').max = sc.triangles + sc.spheres - 1;
+  }
+  function limits() {
     $('dbg-x').max = viewer.settings.width - 1;
     $('dbg-y').max = viewer.settings.height - 1;
     $('dbg-sample').max = viewer.settings.samples - 1;
   }
+  // New settings: what was drawn and listed was for the old ones.
+  $('settings').addEventListener('change', () => {
+    overlay.clear();
+    overlay.redraw();
+    state.last = {};
+    for (const t of ['intersect', 'lights', 'path']) $(`dbg-${t}-out`).textContent = '';
+  });
 
   return {
     show() {
@@ -407,6 +416,7 @@ export function create(viewer, hooks) {
         viewer.view3d.zoom(3.2);
       }
       defaults();
+      limits();
       copyRender();
       showTool(state.tool);
       document.body.dataset.debugReady = '1';

@@ -1051,9 +1051,14 @@ int run_server(ServerConfig cfg) {
     auto job = launch("debug", body, {tool, write_json(*in)});
     std::unique_lock<std::mutex> lock(job->mu);
     const bool ended = job->cv.wait_for(lock, std::chrono::seconds(300), [&] { return job->state != "running" || g_stop; });
-    if (job->state == "done" && job->result_status > 0) return send_json(res, job->result, job->result_status);
     std::string todo = "[";
     for (size_t i = 0; i < job->todo.size(); ++i) todo += (i ? "," : "") + json_quote(job->todo[i]);
+    if (job->state == "done" && job->result_status > 0) {
+      // The TODO lines the worker printed (outside the tool's own record), as "worker_todo".
+      std::string body = job->result;
+      if (!job->todo.empty() && body.size() > 2 && body[0] == '{') body.insert(1, "\"worker_todo\":" + todo + "],");
+      return send_json(res, body, job->result_status);
+    }
     const std::string message = !ended ? "the debugger took more than 300 s (stopped)"
                                 : job->state == "cancelled" ? "replaced by a newer Debug mode call"
                                 : job->message;

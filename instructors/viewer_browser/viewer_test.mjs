@@ -6,7 +6,7 @@
 //                        --scenes DIR --web DIR --out DIR
 //
 // Cases: page_render, camera_round_trip, bvh, token_and_paths, todo_banner,
-// crash_reported, screenshots, debug_tools, debug_crash; `--measure` prints timings instead (not a test).
+// crash_reported, screenshots, debug_tools, debug_crash, debug_todo; `--measure` prints timings instead (not a test).
 // Every wait is on an event of the page or a process, never a fixed delay.
 import {spawn, spawnSync} from 'node:child_process';
 import {createRequire} from 'node:module';
@@ -805,6 +805,32 @@ cases.debug_crash = async () => {
     check(ok.ok && ok.result.hit && ok.result.t === 2, 'the next call works (the default ray hits its triangle at t = 2)',
           JSON.stringify(ok.result || ok.error));
     check(v.proc.exitCode === null, 'the server process is still running');
+  } finally {
+    await b.close();
+    await stopViewer(v);
+  }
+};
+
+// Unfinished code in a Debug mode call (the test build prints a stub's
+// TODO line in every worker): the banner names the part, the function and
+// the file, and the tool still answers.
+cases.debug_todo = async () => {
+  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '1', '-t', '2', SCENE()], {PT_VIEWER_PLANT: 'todo'});
+  const b = await openBrowser();
+  try {
+    const {page} = b;
+    await page.goto(v.url);
+    await page.waitForFunction(() => document.body.dataset.ready === '1');
+    await renderEnd(page, await lastJob(page));
+    await openDebug(page);
+    await page.click('#debug-tabs button[data-tool=intersect]');
+    const e = await debugCall(page, 'intersect', () => page.click('#dbg-intersect-run'));
+    const text = await page.locator('#banner').textContent();
+    check(e.ok && e.result.hit && e.result.t === 2, 'the tool answers', JSON.stringify(e.result || e.error));
+    check(await page.locator('#banner').isVisible() &&
+          text.includes('Part 1 not implemented (TODO: raytrace_pixel, stages/part1_raytracing/pixel_sampling.cpp)'),
+          'the banner names the part, the function and the file', text);
+    await page.screenshot({path: path.join(OUT, 'debug_todo.png')});
   } finally {
     await b.close();
     await stopViewer(v);

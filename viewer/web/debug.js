@@ -93,7 +93,9 @@ export function create(viewer, hooks) {
       hooks.banner('');
       const problems = [];
       if (result.error) problems.push(result.error);
-      if (result.todos && result.todos.length) problems.push(hooks.todoText(result.todos.map((t) => t.replace(/^TODO: implement /, ''))));
+      // The stubs the tool reached, and any TODO line the worker printed.
+      const todos = new Set([...(result.todos || []).map((t) => t.replace(/^TODO: implement /, '')), ...(result.worker_todo || [])]);
+      if (todos.size) problems.push(hooks.todoText([...todos]));
       if (problems.length) hooks.banner(problems.join('\n'), result.error ? 'error' : 'todo');
       if (tool === 'intersect') showIntersection(out, result);
       else if (tool === 'lights') showLights(out, result);

@@ -615,7 +615,7 @@ cases.debug_tools = async () => {
   try {
     const {page} = b;
     const pfmFile = path.join(OUT, 'cli.pfm');
-    runCli([...DEBUG_FLAGS, '--pfm', pfmFile, SCENE()]);
+    runCli([...DEBUG_FLAGS, '--pfm', pfmFile, '-f', path.join(OUT, 'cli.png'), SCENE()]);
     const cli = fs.readFileSync(pfmFile);
     await page.goto(v.url);
     await page.waitForFunction(() => document.body.dataset.ready === '1');

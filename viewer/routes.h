@@ -35,6 +35,11 @@ struct App {
 // status.
 void start_job(App& app, const std::string& kind, const httplib::Request& req, httplib::Response& res);
 
+// Starts a worker job of `kind` for the page's settings `body`; `pre` goes
+// before the flags (a debug job's tool and input).
+std::shared_ptr<Job> launch_job(App& app, const std::string& kind, const Json& body,
+                                const std::vector<std::string>& pre);
+
 // The job of the request's ?job= (404 when it is gone).
 std::shared_ptr<Job> find_job(App& app, const httplib::Request& req);
 
@@ -48,5 +53,7 @@ void add_page_routes(httplib::Server& svr, App& app);
 void add_scene_routes(httplib::Server& svr, App& app);
 void add_render_routes(httplib::Server& svr, App& app);
 void add_bvh_routes(httplib::Server& svr, App& app);
+// Debug mode (debug_routes.cpp).
+void add_debug_routes(httplib::Server& svr, App& app);
 
 }  // namespace pt::viewer

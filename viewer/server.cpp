@@ -174,9 +174,10 @@ std::string random_token() {
 
 // ------------------------------------------------------------------ jobs
 
-void start_job(App& app, const std::string& kind, const httplib::Request& req, httplib::Response& res) {
+std::shared_ptr<Job> launch_job(App& app, const std::string& kind, const Json& body,
+                                const std::vector<std::string>& pre) {
   const ServerConfig& c = app.cfg;
-  Request q = read_request(body_json(req), c.start, c.files);
+  Request q = read_request(body, c.start, c.files);
   if (kind == "normals") {
     q.opts.part = std::min(q.opts.part, 2);
     q.opts.samples_per_pixel = 1;
@@ -190,7 +191,13 @@ void start_job(App& app, const std::string& kind, const httplib::Request& req, h
     std::ofstream(path) << camera_settings_text(cam);
     q.opts.camera_settings = path;
   }
-  auto job = app.workers.start(kind, q.opts, render_flags(q.opts));
+  std::vector<std::string> flags = pre;
+  for (const std::string& f : render_flags(q.opts)) flags.push_back(f);
+  return app.workers.start(kind, q.opts, flags);
+}
+
+void start_job(App& app, const std::string& kind, const httplib::Request& req, httplib::Response& res) {
+  auto job = launch_job(app, kind, body_json(req), {});
   std::lock_guard<std::mutex> lock(job->mu);
   send_json(res, job_json(*job));
 }
@@ -371,6 +378,7 @@ int run_server(ServerConfig cfg) {
   add_scene_routes(svr, app);
   add_render_routes(svr, app);
   add_bvh_routes(svr, app);
+  add_debug_routes(svr, app);
 
   const int port = c.port > 0 ? (svr.bind_to_port("127.0.0.1", c.port) ? c.port : -1)
                               : svr.bind_to_any_port("127.0.0.1");

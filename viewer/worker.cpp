@@ -18,6 +18,8 @@
 #include "bvh.h"
 #include "camera_rays.h"
 #include "collada.h"
+#include "debug_api.h"
+#include "debugger.h"
 #include "options.h"
 #include "render_job.h"
 #include "todo.h"
@@ -27,6 +29,7 @@ namespace pt::viewer {
 #ifdef PT_VIEWER_PLANTS
 // Outside the unnamed namespace, so that the backtrace can name it.
 __attribute__((noinline, noipa)) void planted_crash_in_render(volatile int* p) { *p = 1; }
+__attribute__((noinline, noipa)) void planted_crash_in_debug_tool(volatile int* p) { *p = 1; }
 #endif
 
 namespace {
@@ -79,7 +82,8 @@ void install_fault_handlers() {
 // Test builds only: faults planted by the environment, to test how the
 // server reports them. PT_VIEWER_PLANT=crash dereferences a null pointer
 // in the middle of a render with --seed 13 and throws an exception there
-// with --seed 14; =todo prints a stub's TODO line.
+// with --seed 14 (and in every Debug mode call with --seed 13); =todo
+// prints a stub's TODO line.
 std::string planted() {
   const char* v = std::getenv("PT_VIEWER_PLANT");
   return v ? v : "";
@@ -231,6 +235,23 @@ int run_bvh(const RenderOptions& o) {
   return 0;
 }
 
+// One call of the Debug mode's tools: "RESULT {status, bytes}" and the
+// result's JSON (status 200), or the reason absurd input was refused (400).
+int run_debug(const std::string& tool, const std::string& input, const RenderOptions& o) {
+  int status = 200;
+  std::string body;
+  try {
+    body = run_debug_tool(tool, input, o, [&] { return load_scene(o); });
+  } catch (const debug::InputError& e) {
+    status = 400;
+    body = std::string("{\"error\":") + json_quote(e.what()) + "}";
+  }
+  write_message("RESULT {\"status\":" + std::to_string(status) + ",\"bytes\":" + std::to_string(body.size()) + "}\n",
+                std::vector<uint8_t>(body.begin(), body.end()));
+  write_message("DONE\n", {});
+  return 0;
+}
+
 }  // namespace
 
 int worker_main(int argc, char** argv) {
@@ -244,9 +265,15 @@ int worker_main(int argc, char** argv) {
     return 2;
   }
   const std::string job = argv[2];
+  // A debug job: "--worker debug TOOL INPUT flags... scene".
+  const int first_flag = job == "debug" ? 5 : 3;
+  if (first_flag > argc) {
+    std::fprintf(stderr, "ERROR the debug job needs a tool and its input\n");
+    return 2;
+  }
   // parse_command_line sees "viewer <flags> scene".
   std::vector<char*> args = {argv[0]};
-  for (int i = 3; i < argc; ++i) args.push_back(argv[i]);
+  for (int i = first_flag; i < argc; ++i) args.push_back(argv[i]);
   try {
     RenderOptions opts;
     if (auto code = parse_command_line(int(args.size()), args.data(), &opts)) {
@@ -258,6 +285,10 @@ int worker_main(int argc, char** argv) {
 #endif
     if (job == "render") return run_render(opts);
     if (job == "bvh") return run_bvh(opts);
+#ifdef PT_VIEWER_PLANTS
+    if (job == "debug" && planted() == "crash" && opts.seed == 13) planted_crash_in_debug_tool(nullptr);
+#endif
+    if (job == "debug") return run_debug(argv[3], argv[4], opts);
     std::fprintf(stderr, "ERROR unknown worker job '%s'\n", job.c_str());
     return 2;
   } catch (const std::bad_alloc&) {

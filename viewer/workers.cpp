@@ -191,6 +191,10 @@ bool read_worker_stdout(const std::shared_ptr<Job>& job, int out_fd) {
       std::lock_guard<std::mutex> lock(job->mu);
       job->bvh_head = line.substr(space + 1);
       job->bvh = payload;
+    } else if (tag == "RESULT") {
+      std::lock_guard<std::mutex> lock(job->mu);
+      job->result_status = int(head.num("status", 500));
+      job->result.assign(payload->begin(), payload->end());
     }
   }
   ::close(out_fd);
@@ -201,7 +205,7 @@ bool read_worker_stdout(const std::shared_ptr<Job>& job, int out_fd) {
 // job's state and message: a crash names the function it crashed in.
 void record_end(Job& job, int status, bool done) {
   std::lock_guard<std::mutex> lock(job.mu);
-  const std::string doing = job.kind == "bvh" ? "building the BVH" : "rendering";
+  const std::string doing = job.kind == "bvh" ? "building the BVH" : job.kind == "debug" ? "debugging" : "rendering";
   if (job.cancel_requested) {
     job.state = "cancelled";
   } else if (WIFSIGNALED(status)) {
@@ -268,7 +272,7 @@ std::shared_ptr<Job> Workers::start(const std::string& kind, const RenderOptions
   job->opts = opts;
   job->started = job->last_seen = now_seconds();
   enter(job);
-  std::vector<std::string> args = {exe_, "--worker", kind == "bvh" ? "bvh" : "render"};
+  std::vector<std::string> args = {exe_, "--worker", kind == "normals" ? "render" : kind};
   args.insert(args.end(), flags.begin(), flags.end());
   pid_t pid = -1;
   int out_fd = -1, err_fd = -1;

@@ -60,6 +60,8 @@ struct Job {
   int frames = 0;
   std::vector<int> passes;            // the samples per pixel of every pass so far
   std::string bvh_head;               // the BVH message's JSON
+  int result_status = 0;              // a debug job's answer: HTTP status and JSON
+  std::string result;
   std::shared_ptr<const std::vector<uint8_t>> bvh;
   bool cancel_requested = false;
   std::string crash_signal, crash_function;

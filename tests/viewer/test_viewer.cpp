@@ -1,5 +1,6 @@
 // The viewer's C++ parts without a browser: the camera file it writes, the
-// files it lets the page open, and the progressive render's schedule.
+// files it lets the page open, the progressive render's schedule, and
+// Debug mode's reading of the page's input.
 #include <catch2/catch.hpp>
 
 #include <unistd.h>
@@ -10,6 +11,9 @@
 
 #include "camera_file.h"
 #include "collada.h"
+#include "debug_api.h"
+#include "debugger.h"
+#include "json.h"
 #include "file_access.h"
 #include "render_job.h"
 #include "worker.h"
@@ -127,4 +131,64 @@ TEST_CASE("the progressive render's passes take 1, 2, 4, ... samples and end at 
   CHECK(schedule(16) == std::vector<int>{1, 2, 4, 8, 16});
   CHECK(schedule(5) == std::vector<int>{1, 2, 4, 5});
   CHECK(schedule(1 << 20).size() == 21);
+}
+
+TEST_CASE("Debug mode reads the page's input, refuses absurd values, and answers with the debugger's result", "[viewer]") {
+  RenderOptions o;
+  o.width = 32;
+  o.height = 24;
+  o.samples_per_pixel = 2;
+  o.scene_path = std::string(PT_PROJECT_SCENES_DIR) + "/CBspheres_lambertian.dae";
+  int loads = 0;
+  const auto load = [&] {
+    ++loads;
+    Scene s = load_collada(o.scene_path);
+    configure_camera(s.camera, o);
+    return s;
+  };
+  const std::string tri = R"("triangle":{"p1":[-1,-1,-2],"p2":[1,-1,-2],"p3":[0,1,-2]})";
+  const Json hit = parse_json(
+      viewer::run_debug_tool("intersect", R"({"ray":{"origin":[0,0,0],"direction":[0,0,-1]},)" + tri + "}", o, load), "t");
+  CHECK(hit.flag("hit"));
+  CHECK(hit.num("t") == 2.0);
+  CHECK(loads == 0);  // a typed shape needs no scene
+  // "nan" and "inf" reach the tool's own checks; other text is refused here.
+  using debug::InputError;
+  CHECK_THROWS_AS(viewer::run_debug_tool("intersect", R"({"ray":{"origin":[0,0,0],"direction":[0,"nan",-1]},)" + tri + "}", o, load),
+                  InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("intersect", R"({"ray":{"origin":[0,0,0],"direction":[0,"x",-1]},)" + tri + "}", o, load),
+                  InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("intersect", R"({"ray":{"origin":[0,0,0],"direction":[0,0,-1],"min_t":3,"max_t":1},)" + tri + "}",
+                                         o, load),
+                  InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("intersect", R"({"ray":{"origin":[0,0,0],"direction":[0,0,-1]},"sphere":{"center":[0,0,-3],"radius":-1}})",
+                                         o, load),
+                  InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("intersect", R"({"ray":{"origin":[0,0,0],"direction":[0,0,-1]}})", o, load), InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("intersect", "[1, 2]", o, load), InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("teleport", "{}", o, load), InputError);
+  // Pixels and samples out of range, and a light beyond the scene's.
+  CHECK_THROWS_AS(viewer::run_debug_tool("path", R"({"x":32,"y":0,"sample":0})", o, load), InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("path", R"({"x":0,"y":-1,"sample":0})", o, load), InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("path", R"({"x":0,"y":0,"sample":2})", o, load), InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("path", R"({"x":0.5,"y":0,"sample":0})", o, load), InputError);
+  CHECK_THROWS_AS(
+      viewer::run_debug_tool("lights", R"({"light":1,"point":[0,0,0],"normal":[0,1,0],"samples":4,"seed":1})", o, load),
+      InputError);
+  CHECK_THROWS_AS(
+      viewer::run_debug_tool("lights", R"({"light":0,"point":[0,0,0],"normal":[0,1,0],"samples":0,"seed":1})", o, load),
+      InputError);
+  // A pixel's sample: the record of the path, starting at the camera.
+  const Json path = parse_json(viewer::run_debug_tool("path", R"({"x":16,"y":12,"sample":1})", o, load), "path");
+  CHECK(path.num("sample") == 1);
+  CHECK(path.get("steps") != nullptr);
+  const Json* pixel = path.get("pixel");
+  REQUIRE(pixel);
+  CHECK(pixel->array.at(0).number == 16);
+  CHECK(pixel->array.at(1).number == 12);
+  // The light-sample tester with the light's shape for drawing.
+  const Json lights = parse_json(
+      viewer::run_debug_tool("lights", R"({"light":0,"point":[0,0.01,0],"normal":[0,1,0],"samples":5,"seed":1})", o, load), "l");
+  CHECK(lights.get("samples")->array.size() == 5);
+  CHECK(lights.get("light_shape")->str("type") == "area");
 }

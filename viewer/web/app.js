@@ -442,6 +442,8 @@ async function setMode(mode) {
   for (const b of document.querySelectorAll('nav button')) b.classList.toggle('active', b.dataset.mode === mode);
   $('render-view').hidden = mode !== 'render';
   $('three-view').hidden = mode === 'render';
+  $('debug-panel').hidden = mode !== 'debug';
+  if (viewer.debug) viewer.debug.overlay.group.visible = mode === 'debug';
   document.body.dataset.mode = mode;
   if (mode === 'render') return;
   if (!viewer.view3d) {
@@ -453,7 +455,11 @@ async function setMode(mode) {
       return;
     }
   }
-  await viewer.view3d.show(mode);
+  await viewer.view3d.show(mode === 'debug' ? 'camera' : mode);
+  if (mode === 'debug') {
+    if (!viewer.debug) viewer.debug = (await import('/web/debug.js')).create(viewer, {api, banner, todoText});
+    viewer.debug.show();
+  }
 }
 viewer.setMode = setMode;
 for (const b of document.querySelectorAll('nav button')) b.addEventListener('click', () => setMode(b.dataset.mode));
@@ -474,6 +480,7 @@ window.addEventListener('keydown', (e) => {
     if (viewer.mode === 'render') startRender(); else setMode('render');
   } else if (k === 'e' || k === 'E') setMode('camera');
   else if (k === 'v' || k === 'V') setMode('bvh');
+  else if (k === 'd' || k === 'D') setMode('debug');
   else if (k === '[') bump('samples', (v) => v / 2);
   else if (k === ']') bump('samples', (v) => v * 2);
   else if (k === '-') bump('light_samples', (v) => v / 2);

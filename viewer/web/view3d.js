@@ -672,5 +672,7 @@ export function create(viewer, hooks) {
     nodeInfo: (i) => (state.bvh ? {box: box(state.bvh, i), primitives: state.bvh.hi[i] - state.bvh.lo[i],
                                    depth: state.bvh.depth[i], rays: state.bvh.entered[i]} : null),
     view, orbit, zoom, redraw, moving,
+    // Debug mode (debug3d.js) draws its rays into this scene.
+    three: {scene, camera, redraw},
   };
 }

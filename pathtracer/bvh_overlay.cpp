@@ -93,16 +93,19 @@ void draw_box_edges(ImageBuffer& img, const Camera& cam, const BBox& box, Overla
   }
 }
 
-std::string draw_bvh_overlay(ImageBuffer& img, const Camera& cam, const BVH& bvh, int depth, long long node,
-                             std::string* note) {
+void draw_bvh_overlay(ImageBuffer& img, const Camera& cam, const BVH& bvh, int depth, long long node,
+                      std::string* note) {
   const std::vector<BVHNode>& nodes = bvh.nodes();
   const auto box_of = [&](size_t i) { return BBox(nodes[i].lo, nodes[i].hi); };
   // Node 1 is padding: children start at even indices.
+  // A node or depth the tree does not have draws nothing, with a note: an
+  // unfinished part 2 (a single leaf) still gets its image.
   if (node >= 0 && (size_t(node) >= nodes.size() || node == 1)) {
     const std::string which = nodes.empty()       ? "the BVH has no nodes"
                               : nodes.size() <= 2 ? "the BVH has only node 0"
                                                   : "the BVH has nodes 0 and 2 to " + std::to_string(nodes.size() - 1);
-    return "--bvh-node " + std::to_string(node) + ": " + which;
+    if (note) *note = "--bvh-node " + std::to_string(node) + ": " + which + "; no boxes drawn";
+    node = -1;
   }
   if (depth >= 0 && !nodes.empty()) {
     // Breadth first from the root, as the viewer numbers depths.
@@ -114,11 +117,12 @@ std::string draw_bvh_overlay(ImageBuffer& img, const Camera& cam, const BVH& bvh
       level.swap(next);
     }
     if (level.empty() && note)
-      *note = "--bvh-boxes " + std::to_string(depth) + ": the BVH is only " +
+      *note = (note->empty() ? "" : *note + "; ") + "--bvh-boxes " + std::to_string(depth) + ": the BVH is only " +
               std::to_string(bvh.build_stats().depth) + " deep; no boxes drawn";
     for (uint32_t i : level) draw_box_edges(img, cam, box_of(i), kDepthBoxColor, 1);
   } else if (depth >= 0 && note) {
-    *note = "--bvh-boxes " + std::to_string(depth) + ": the BVH is empty; no boxes drawn";
+    *note = (note->empty() ? "" : *note + "; ") + "--bvh-boxes " + std::to_string(depth) +
+            ": the BVH is empty; no boxes drawn";
   }
   if (node >= 0) {
     // In the viewer's order: the node, then its children over it.
@@ -129,7 +133,6 @@ std::string draw_bvh_overlay(ImageBuffer& img, const Camera& cam, const BVH& bvh
       draw_box_edges(img, cam, box_of(n.first + 1), kRightBoxColor, 2);
     }
   }
-  return {};
 }
 
 }  // namespace pt

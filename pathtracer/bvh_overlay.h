@@ -31,10 +31,9 @@ void draw_box_edges(ImageBuffer& img, const Camera& cam, const BBox& box, Overla
 
 // What to draw: depth >= 0 draws every node at that depth (root 0); node >= 0
 // draws that node (the viewer's numbering: the index into BVH::nodes()) and
-// its two children. Returns an error message (empty when fine): a node
-// index the tree does not have. A depth the tree does not reach draws
-// nothing and sets *note.
-std::string draw_bvh_overlay(ImageBuffer& img, const Camera& cam, const BVH& bvh, int depth, long long node,
-                             std::string* note);
+// its two children over it. A depth the tree does not reach, or a node it
+// does not have, draws nothing and says so in *note (empty otherwise).
+void draw_bvh_overlay(ImageBuffer& img, const Camera& cam, const BVH& bvh, int depth, long long node,
+                      std::string* note);
 
 }  // namespace pt

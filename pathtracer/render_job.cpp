@@ -246,9 +246,7 @@ int run_render_job(const RenderOptions& opts) {
       if (!bvh) throw std::runtime_error("--bvh-boxes/--bvh-node: this render has no BVH");
       ImageBuffer drawn = r.image;
       std::string note;
-      const std::string error =
-          draw_bvh_overlay(drawn, scene.camera, *bvh, opts.bvh_boxes_depth, opts.bvh_node, &note);
-      if (!error.empty()) throw std::runtime_error(error);
+      draw_bvh_overlay(drawn, scene.camera, *bvh, opts.bvh_boxes_depth, opts.bvh_node, &note);
       if (!note.empty()) std::fprintf(stderr, "pathtracer: warning: %s\n", note.c_str());
       files.add(png, encode_png(drawn));
     } else {

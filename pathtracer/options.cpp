@@ -135,6 +135,12 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
   app.add_option("--stats-json", o->stats_json, "Write the render's figures (times, rays, tests, largest radiance) as JSON");
   app.add_option("--bvh-leaf", o->bvh_max_leaf, "Most primitives per BVH leaf")->check(CLI::Range(1, 255))->default_val(4);
   app.add_option("--bvh-bins", o->bvh_bins, "SAH bins per axis when building the BVH")->check(CLI::Range(2, 64))->default_val(12);
+  app.add_option("--bvh-boxes", o->bvh_boxes_depth,
+                 "Draw the boxes of every BVH node at depth D (root 0) over the PNG, in yellow")
+      ->check(CLI::Range(0, 1 << 20))->type_name("D");
+  app.add_option("--bvh-node", o->bvh_node,
+                 "Draw BVH node N's box (white) and its children's (red, blue) over the PNG")
+      ->check(CLI::Range(0LL, 1LL << 40))->type_name("N");
   bool no_rr = false;
   app.add_flag("--no-rr", no_rr, "Part 4: no Russian roulette, every path runs to -m bounces");
   app.add_flag("--direct-only", o->direct_only, "Part 4: only emission and direct light (bounces 0 and 1)");
@@ -211,6 +217,9 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
     o->cell_w = cell[2];
     o->cell_h = cell[3];
   }
+  if ((o->bvh_boxes_depth >= 0 || o->bvh_node >= 0) && o->part < 2)
+    return fail(std::string(o->bvh_boxes_depth >= 0 ? "--bvh-boxes" : "--bvh-node") +
+                " draws the BVH's boxes: it needs --part 2 or later (part 1 has no BVH)");
   if (o->part > kPartsBuilt)
     return fail("--part " + std::to_string(o->part) + ": this build implements parts 1 to " +
                 std::to_string(kPartsBuilt) + " only");

@@ -40,6 +40,8 @@ struct RenderOptions {
   bool course_area_pdf = false;  // --course-area-pdf
   int bvh_max_leaf = 4;          // --bvh-leaf
   int bvh_bins = 12;             // --bvh-bins
+  int bvh_boxes_depth = -1;      // --bvh-boxes D: draw the BVH's boxes at depth D into the PNG
+  long long bvh_node = -1;       // --bvh-node N: draw node N's box and its children's into the PNG
 };
 
 // The largest image -r accepts, in pixels (8192 x 4096; an 8K UHD frame

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "brute_force.h"
+#include "bvh_overlay.h"
 #include "adaptive_sampling.h"
 #include "clock.h"
 #include "collada.h"
@@ -210,12 +211,18 @@ int run_render_job(const RenderOptions& opts) {
     std::fflush(stdout);
     doing = "building the BVH of " + std::to_string(scene.num_primitives()) + " primitives";
     const std::string image_size = "-r " + std::to_string(opts.width) + " " + std::to_string(opts.height);
-    RenderResult r = render_scene(scene, opts, [&](const RenderResult& partial) {
-      if (partial.used_bvh) std::printf("Done! (%.4f sec)\n", partial.bvh.build_seconds);
-      std::printf("[PathTracer] Rendering... ");
-      std::fflush(stdout);
-      doing = image_size;
-    });
+    // --bvh-boxes and --bvh-node draw the render's own BVH: keep it.
+    const bool overlay = opts.bvh_boxes_depth >= 0 || opts.bvh_node >= 0;
+    RenderCache kept;
+    RenderResult r = render_scene(
+        scene, opts,
+        [&](const RenderResult& partial) {
+          if (partial.used_bvh) std::printf("Done! (%.4f sec)\n", partial.bvh.build_seconds);
+          std::printf("[PathTracer] Rendering... ");
+          std::fflush(stdout);
+          doing = image_size;
+        },
+        {}, overlay ? &kept : nullptr);
     std::printf("100%%! (%.4fs)\n", r.seconds);
     const uint64_t rays = r.stats.rays();
     std::printf("[PathTracer] %s %llu rays.\n", r.used_bvh ? "BVH traced" : "Traced", (unsigned long long)rays);
@@ -232,7 +239,19 @@ int run_render_job(const RenderOptions& opts) {
     // All the outputs or none: each goes to a temporary file first, and
     // they are renamed into place together.
     AtomicFileSet files;
-    files.add(png, encode_png(r.image));
+    if (overlay) {
+      // The boxes go into the PNG only: the PFM, the rate image and the
+      // figures of --stats-json are the render's.
+      const auto* bvh = dynamic_cast<const BVH*>(kept.geometry.get());
+      if (!bvh) throw std::runtime_error("--bvh-boxes/--bvh-node: this render has no BVH");
+      ImageBuffer drawn = r.image;
+      std::string note;
+      draw_bvh_overlay(drawn, scene.camera, *bvh, opts.bvh_boxes_depth, opts.bvh_node, &note);
+      if (!note.empty()) std::fprintf(stderr, "pathtracer: warning: %s\n", note.c_str());
+      files.add(png, encode_png(drawn));
+    } else {
+      files.add(png, encode_png(r.image));
+    }
     files.add(rate_image_path(png), encode_rate_png(r.image, opts.samples_per_pixel));
     if (!opts.output_pfm.empty()) files.add(opts.output_pfm, encode_pfm(r.image));
     if (!opts.stats_json.empty()) {

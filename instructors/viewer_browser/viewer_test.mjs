@@ -6,7 +6,9 @@
 //                        --scenes DIR --web DIR --out DIR
 //
 // Cases: page_render, camera_round_trip, bvh, token_and_paths, todo_banner,
-// crash_reported, screenshots, debug_tools, debug_crash, debug_todo; `--measure` prints timings instead (not a test).
+// crash_reported, screenshots, debug_tools, debug_crash, debug_todo; `--measure`
+// prints timings instead (not a test; `--measure bvh` only BVH mode's frames,
+// `--frames N` of them, default 120; `late` is the share of frames over 20 ms).
 // Every wait is on an event of the page or a process, never a fixed delay.
 import {spawn, spawnSync} from 'node:child_process';
 import {createRequire} from 'node:module';
@@ -874,10 +876,10 @@ async function measure() {
     await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large_moving.png')});
     await b.page.evaluate(() => window.viewer.view3d.moving(false));
     await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large_still.png')});
-    const m = await b.page.evaluate(() => window.viewer.view3d.measure(120));
+    const m = await b.page.evaluate((n) => window.viewer.view3d.measure(n), Number(args.frames || 120));
     const stats = (xs) => {
       xs.sort((a, c) => a - c);
-      return {median: xs[Math.floor(xs.length / 2)], p95: xs[Math.floor(xs.length * 0.95)], max: xs[xs.length - 1]};
+      return {late: xs.filter((x) => x > 20).length / xs.length, median: xs[Math.floor(xs.length / 2)], p95: xs[Math.floor(xs.length * 0.95)], max: xs[xs.length - 1]};
     };
     // Frame: between two animation frames; draw: render() until the GPU
     // process has finished it (gl.finish).

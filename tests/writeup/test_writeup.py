@@ -9,6 +9,7 @@
     test_writeup.py reference --pathtracer EXE
     test_writeup.py stats     --pathtracer EXE
     test_writeup.py text
+    test_writeup.py bvh       --pathtracer EXE
 
 quick:   a --quick run of the real recipes into DIR/quick: every figure
          rendered, every image the page references exists, every table
@@ -23,6 +24,9 @@ errors:  bad recipes and a missing binary give one line naming the recipe or
 flags, reference, stats: see test_flags.py (figures flagged for a TODO line
          or an all-black image, and the renderer's max_radiance).
 text:    the recipes' prose states no fixed render times or speed-ups.
+bvh:     see test_bvh_figures.py (--bvh-boxes and --bvh-node draw the
+         render's BVH boxes where the camera projects them; the
+         p2_bvh_boxes figures show them).
 
 The modules of the generator's package have unit tests of their own:
 test_recipes.py, test_cache.py, test_scheduler.py, test_checks.py,
@@ -41,6 +45,7 @@ import tomllib
 sys.dont_write_bytecode = True
 from support import (CHECKER, GENERATOR, RECIPES, ROOT, PageParser, check, expected_items,  # noqa: E402
                      failures, run, summary)
+import test_bvh_figures  # noqa: E402
 import test_flags  # noqa: E402
 
 NUMBER = re.compile(r"^-?[0-9][0-9,]*(\.[0-9]+)?×?$")
@@ -294,7 +299,7 @@ def test_text(a):
 
 TESTS = {"quick": test_quick, "browser": test_browser, "cache": test_cache, "errors": test_errors,
          "flags": test_flags.test_flags, "reference": test_flags.test_reference,
-         "stats": test_flags.test_stats, "text": test_text}
+         "stats": test_flags.test_stats, "text": test_text, "bvh": test_bvh_figures.test_boxes}
 
 
 def main():

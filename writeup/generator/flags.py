@@ -11,7 +11,7 @@ FLAG_ARITY = MappingProxyType({
     "-s": 1, "-l": 1, "-t": 1, "-m": 1, "-o": 1, "-e": 1, "-b": 1, "-d": 1,
     "-f": 1, "-r": 2, "-c": 1, "-a": 2, "-H": 0, "-p": 4, "--part": 1,
     "--seed": 1, "--pfm": 1, "--stats-json": 1, "--bvh-leaf": 1,
-    "--bvh-bins": 1, "--no-rr": 0, "--direct-only": 0, "--indirect-only": 0,
+    "--bvh-bins": 1, "--bvh-boxes": 1, "--bvh-node": 1, "--no-rr": 0, "--direct-only": 0, "--indirect-only": 0,
     "--course-area-pdf": 0, "--no-progress": 0,
 })
 # Set by the generator itself (from size, seed, the scheduler and the cache).

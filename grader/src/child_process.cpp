@@ -38,6 +38,117 @@ void pause_briefly() {
   nanosleep(&ts, nullptr);
 }
 
+// The files the child writes to and reads from, and the pipe through which
+// it reports a failed exec; all opened close-on-exec.
+struct ChildFiles {
+  int out = -1, err = -1, null = -1;
+  int status_pipe[2] = {-1, -1};
+  bool ok() const { return out >= 0 && err >= 0 && null >= 0 && status_pipe[0] >= 0; }
+  void close_all() const {
+    for (int fd : {out, err, null, status_pipe[0], status_pipe[1]})
+      if (fd >= 0) close(fd);
+  }
+};
+
+ChildFiles open_child_files(const std::string& stdout_path, const std::string& stderr_path) {
+  ChildFiles f;
+  f.out = open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  f.err = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  f.null = open("/dev/null", O_RDONLY | O_CLOEXEC);
+  if (f.out >= 0 && f.err >= 0 && f.null >= 0 && pipe2(f.status_pipe, O_CLOEXEC) != 0) {
+    f.status_pipe[0] = f.status_pipe[1] = -1;
+  }
+  return f;
+}
+
+// The child's side of fork: only async-signal-safe calls from here to exec.
+[[noreturn]] void become_child(const ChildFiles& f, char* const* args, const std::string& workdir,
+                               uint64_t cpu, const Limits& limits) {
+  setpgid(0, 0);
+  dup2(f.null, 0);
+  dup2(f.out, 1);
+  dup2(f.err, 2);
+  set_limit(RLIMIT_CPU, cpu, cpu + 2);
+  set_limit(RLIMIT_AS, limits.memory_bytes, limits.memory_bytes);
+  set_limit(RLIMIT_FSIZE, limits.file_bytes, limits.file_bytes);
+  set_limit(RLIMIT_CORE, 0, 0);
+  if (chdir(workdir.c_str()) == 0) execv(args[0], args);
+  const int e = errno;
+  if (write(f.status_pipe[1], &e, sizeof e) < 0) _exit(127);
+  _exit(127);
+}
+
+// Reads what the child wrote to stderr since the last look, line by line;
+// only the first 64 KB are watched (a TODO line comes first).
+class StderrWatch {
+ public:
+  StderrWatch(const std::string& stderr_path, const Limits& limits)
+      : limits_(limits), fd_(!limits.stop_on_stderr ? -1 : open(stderr_path.c_str(), O_RDONLY | O_CLOEXEC)) {}
+  ~StderrWatch() {
+    if (fd_ >= 0) close(fd_);
+  }
+  StderrWatch(const StderrWatch&) = delete;
+  StderrWatch& operator=(const StderrWatch&) = delete;
+
+  // True when a new line asks to stop the child; the line goes to stop_line.
+  bool says_stop(std::string& stop_line) {
+    if (fd_ < 0 || watched_ > (64u << 10)) return false;
+    char buf[4096];
+    ssize_t n;
+    while ((n = read(fd_, buf, sizeof buf)) > 0) {
+      watched_ += size_t(n);
+      pending_.append(buf, size_t(n));
+      size_t eol;
+      while ((eol = pending_.find('\n')) != std::string::npos) {
+        const std::string line = pending_.substr(0, eol);
+        pending_.erase(0, eol + 1);
+        if (limits_.stop_on_stderr(line)) {
+          stop_line = line;
+          return true;
+        }
+      }
+      if (watched_ > (64u << 10)) break;
+    }
+    return false;
+  }
+
+ private:
+  const Limits& limits_;
+  const int fd_;
+  std::string pending_;
+  size_t watched_ = 0;
+};
+
+void kill_and_reap(pid_t pid, int& status) {
+  kill(-pid, SIGKILL);
+  kill(pid, SIGKILL);
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+}
+
+// Polls the child until it ends, its stderr dooms it or its wall-clock time
+// runs out; returns its wait status and sets stopped / timed_out.
+int wait_for_child(pid_t pid, double start, const Limits& limits, StderrWatch& watch, ChildResult& result) {
+  int status = 0;
+  for (;;) {
+    const pid_t done = waitpid(pid, &status, WNOHANG);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) break;
+    if (watch.says_stop(result.stop_line)) {
+      result.stopped = true;
+      kill_and_reap(pid, status);
+      break;
+    }
+    if (now_seconds() - start > limits.wall_seconds) {
+      result.timed_out = true;
+      kill_and_reap(pid, status);
+      break;
+    }
+    pause_briefly();
+  }
+  return status;
+}
+
 }  // namespace
 
 ChildResult run_child(const std::vector<std::string>& argv, const std::string& workdir,
@@ -52,98 +163,33 @@ ChildResult run_child(const std::vector<std::string>& argv, const std::string& w
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
-  const int out_fd = open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  const int err_fd = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  const int null_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
-  int status_pipe[2] = {-1, -1};  // exec failure is reported through it
-  if (out_fd < 0 || err_fd < 0 || null_fd < 0 || pipe2(status_pipe, O_CLOEXEC) != 0) {
+  const ChildFiles files = open_child_files(stdout_path, stderr_path);
+  if (!files.ok()) {
     result.error = std::string("cannot set up the child's files: ") + std::strerror(errno);
-    for (int fd : {out_fd, err_fd, null_fd, status_pipe[0], status_pipe[1]})
-      if (fd >= 0) close(fd);
+    files.close_all();
     return result;
   }
   const uint64_t cpu = uint64_t(std::ceil(limits.cpu_seconds));
   const double start = now_seconds();
   const pid_t pid = fork();
-  if (pid == 0) {
-    setpgid(0, 0);
-    dup2(null_fd, 0);
-    dup2(out_fd, 1);
-    dup2(err_fd, 2);
-    set_limit(RLIMIT_CPU, cpu, cpu + 2);
-    set_limit(RLIMIT_AS, limits.memory_bytes, limits.memory_bytes);
-    set_limit(RLIMIT_FSIZE, limits.file_bytes, limits.file_bytes);
-    set_limit(RLIMIT_CORE, 0, 0);
-    if (chdir(workdir.c_str()) == 0) execv(args[0], args.data());
-    const int e = errno;
-    if (write(status_pipe[1], &e, sizeof e) < 0) _exit(127);
-    _exit(127);
-  }
-  close(out_fd);
-  close(err_fd);
-  close(null_fd);
-  close(status_pipe[1]);
+  if (pid == 0) become_child(files, args.data(), workdir, cpu, limits);
+  for (int fd : {files.out, files.err, files.null, files.status_pipe[1]}) close(fd);
   if (pid < 0) {
     result.error = std::string("fork failed: ") + std::strerror(errno);
-    close(status_pipe[0]);
+    close(files.status_pipe[0]);
     return result;
   }
   setpgid(pid, pid);  // also from this side, so the kill below cannot miss
   int exec_errno = 0;
-  const ssize_t got = read(status_pipe[0], &exec_errno, sizeof exec_errno);
-  close(status_pipe[0]);
-
-  // The stderr watch reads what the child wrote since the last look, line
-  // by line; only the first 64 KB are watched (a TODO line comes first).
-  const int watch_fd = !limits.stop_on_stderr ? -1 : open(stderr_path.c_str(), O_RDONLY | O_CLOEXEC);
-  std::string pending;
-  size_t watched = 0;
-  const auto stderr_says_stop = [&]() {
-    if (watch_fd < 0 || watched > (64u << 10)) return false;
-    char buf[4096];
-    ssize_t n;
-    while ((n = read(watch_fd, buf, sizeof buf)) > 0) {
-      watched += size_t(n);
-      pending.append(buf, size_t(n));
-      size_t eol;
-      while ((eol = pending.find('\n')) != std::string::npos) {
-        const std::string line = pending.substr(0, eol);
-        pending.erase(0, eol + 1);
-        if (limits.stop_on_stderr(line)) {
-          result.stop_line = line;
-          return true;
-        }
-      }
-      if (watched > (64u << 10)) break;
-    }
-    return false;
-  };
+  const ssize_t got = read(files.status_pipe[0], &exec_errno, sizeof exec_errno);
+  close(files.status_pipe[0]);
 
   int status = 0;
-  for (;;) {
-    const pid_t done = waitpid(pid, &status, WNOHANG);
-    if (done == pid) break;
-    if (done < 0 && errno != EINTR) break;
-    if (stderr_says_stop()) {
-      result.stopped = true;
-      kill(-pid, SIGKILL);
-      kill(pid, SIGKILL);
-      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-      }
-      break;
-    }
-    if (now_seconds() - start > limits.wall_seconds) {
-      result.timed_out = true;
-      kill(-pid, SIGKILL);
-      kill(pid, SIGKILL);
-      while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-      }
-      break;
-    }
-    pause_briefly();
+  {
+    StderrWatch watch(stderr_path, limits);
+    status = wait_for_child(pid, start, limits, watch, result);
+    result.seconds = now_seconds() - start;
   }
-  result.seconds = now_seconds() - start;
-  if (watch_fd >= 0) close(watch_fd);
   kill(-pid, SIGKILL);  // whatever it forked and left behind
   if (got == sizeof exec_errno) {
     result.error = std::string("cannot run ") + argv[0] + ": " + std::strerror(exec_errno);

@@ -58,92 +58,115 @@ void write_page(const std::string& path, const Case& c, const std::string& file,
   write_text(path, s);
 }
 
+// What comparing a render with its reference found, for the terminal, the
+// page and the picture.
+struct Comparison {
+  std::vector<std::string> lines;
+  std::string verdict;
+  int status = 0;
+  Picture yours, difference;
+};
+
+// The user's render, refused unless it is a readable .pfm or .png of the
+// case's size.
+ImageBuffer read_candidate(const Case& c, const Reference& ref, const std::string& file, bool* pfm) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw std::runtime_error(file + ": no such file");
+  const std::string ext = lower_extension(file);
+  if (ext != ".pfm" && ext != ".png") throw std::runtime_error(file + ": expected a .pfm or .png image");
+  *pfm = ext == ".pfm";
+  const ImageBuffer mine = *pfm ? pt::read_pfm(file) : read_png_image(file);
+  if (mine.width != ref.mean.width || mine.height != ref.mean.height)
+    throw std::runtime_error(file + ": the image is " + std::to_string(mine.width) + " x " + std::to_string(mine.height) +
+                             ", case " + c.name + " renders " + std::to_string(ref.mean.width) + " x " +
+                             std::to_string(ref.mean.height) + " (see grader compare --list)");
+  return mine;
+}
+
+// A PFM gets the grader's own image statistics and a verdict.
+Comparison compare_pfm(const Case& c, const Reference& ref, const std::string& file, const ImageBuffer& mine) {
+  Comparison r;
+  const int w = mine.width, h = mine.height;
+  int fx = 0, fy = 0;
+  if (const int bad = count_non_finite(mine, &fx, &fy))
+    throw std::runtime_error(file + ": " + std::to_string(bad) + " pixels are NaN or infinite (the first at x=" +
+                             std::to_string(fx) + ", y=" + std::to_string(fy) + " from the top)");
+  const ImageScore s = score_image(mine, ref.mean, ref.variance, ref.runs, case_score_options(c, ref));
+  r.verdict = s.passed ? "matches the reference" : "differs from the reference";
+  r.status = s.passed ? 0 : 1;
+  r.lines.push_back(s.summary());
+  r.lines.push_back(fmt("mean radiance %.4g", s.mean_candidate) + fmt(" (reference %.4g)", s.mean_reference));
+  r.lines.push_back("the grader also checks the costs and, for adaptive cases, the sample-rate image: grader run "
+                    "--case " + c.name);
+  r.yours = radiance_picture(mine);
+  r.difference = error_picture(s.pixel_z, w, h, s.pixel_threshold);
+  r.lines.push_back(s.deterministic ? "difference: |yours - reference| in units of the round-off tolerance; red "
+                                      "beyond it"
+                                    : "difference: |z| per pixel, black (0) to white (the threshold); red beyond it");
+  return r;
+}
+
+// An 8-bit image clamps and rounds what the statistics need: compare
+// bytes, against the byte difference one standard deviation of noise
+// makes in the reference.
+Comparison compare_png(const Reference& ref, const Picture& reference, const ImageBuffer& mine) {
+  Comparison r;
+  const int w = mine.width, h = mine.height;
+  r.yours.width = w, r.yours.height = h;
+  r.yours.rgb.resize(size_t(w) * h * 3);
+  std::vector<float> ratio(size_t(w) * h, 0.0f);
+  double sum_diff = 0, sum_noise = 0;
+  int beyond = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      double worst = 0;
+      for (int ch = 0; ch < 3; ++ch) {
+        const size_t i = (size_t(y) * w + x) * 3 + ch;
+        r.yours.rgb[i] = (unsigned char)value_from_top(mine, x, y, ch);
+        const double m = value_from_top(ref.mean, x, y, ch),
+                     sd = std::sqrt(std::max(0.0f, value_from_top(ref.variance, x, y, ch)));
+        const double noise = std::fabs(double(pt::radiance_to_byte(float(m + sd))) - pt::radiance_to_byte(float(m)));
+        const double d = std::fabs(double(value_from_top(mine, x, y, ch)) - reference.rgb[i]);
+        sum_diff += d;
+        sum_noise += noise;
+        worst = std::max(worst, d / (4 * noise + 2));
+      }
+      ratio[size_t(y) * w + x] = float(worst);
+      beyond += worst > 1;
+    }
+  const double n = 3.0 * w * h;
+  r.verdict = "compared in 8 bits (no verdict: render with --pfm for the grader's statistics)";
+  r.lines.push_back(fmt("mean |difference| %.2f levels of 255", sum_diff / n) +
+                    fmt(", noise alone gives about %.2f", 0.8 * sum_noise / n));
+  r.lines.push_back(fmt("%.2f %% of the pixels differ by more than four noise levels (+2)", 100.0 * beyond / (w * h)));
+  r.difference = error_picture(ratio, w, h, 1.0);
+  r.lines.push_back("difference: the byte difference against four noise levels (+2), black to white; red beyond it");
+  return r;
+}
+
 }  // namespace
 
 int compare_render(const Case& c, const std::string& references, const std::string& file, const std::string& out_dir) {
   Reference ref;
   std::string why;
   if (!load_reference(references, c, &ref, &why)) throw std::runtime_error(c.name + ": " + why);
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) throw std::runtime_error(file + ": no such file");
-  const std::string ext = lower_extension(file);
-  if (ext != ".pfm" && ext != ".png") throw std::runtime_error(file + ": expected a .pfm or .png image");
-  const bool pfm = ext == ".pfm";
-  const ImageBuffer mine = pfm ? pt::read_pfm(file) : read_png_image(file);
-  if (mine.width != ref.mean.width || mine.height != ref.mean.height)
-    throw std::runtime_error(file + ": the image is " + std::to_string(mine.width) + " x " + std::to_string(mine.height) +
-                             ", case " + c.name + " renders " + std::to_string(ref.mean.width) + " x " +
-                             std::to_string(ref.mean.height) + " (see grader compare --list)");
-
-  std::vector<std::string> lines;
-  std::string verdict;
-  int status = 0;
-  Picture yours, difference;
+  bool pfm = false;
+  const ImageBuffer mine = read_candidate(c, ref, file, &pfm);
   const Picture reference = radiance_picture(ref.mean);
-  const int w = mine.width, h = mine.height;
-  if (pfm) {
-    int fx = 0, fy = 0;
-    if (const int bad = count_non_finite(mine, &fx, &fy))
-      throw std::runtime_error(file + ": " + std::to_string(bad) + " pixels are NaN or infinite (the first at x=" +
-                               std::to_string(fx) + ", y=" + std::to_string(fy) + " from the top)");
-    const ImageScore s = score_image(mine, ref.mean, ref.variance, ref.runs, case_score_options(c, ref));
-    verdict = s.passed ? "matches the reference" : "differs from the reference";
-    status = s.passed ? 0 : 1;
-    lines.push_back(s.summary());
-    lines.push_back(fmt("mean radiance %.4g", s.mean_candidate) + fmt(" (reference %.4g)", s.mean_reference));
-    lines.push_back("the grader also checks the costs and, for adaptive cases, the sample-rate image: grader run "
-                    "--case " + c.name);
-    yours = radiance_picture(mine);
-    difference = error_picture(s.pixel_z, w, h, s.pixel_threshold);
-    lines.push_back(s.deterministic ? "difference: |yours - reference| in units of the round-off tolerance; red "
-                                      "beyond it"
-                                    : "difference: |z| per pixel, black (0) to white (the threshold); red beyond it");
-  } else {
-    // An 8-bit image clamps and rounds what the statistics need: compare
-    // bytes, against the byte difference one standard deviation of noise
-    // makes in the reference.
-    yours.width = w, yours.height = h;
-    yours.rgb.resize(size_t(w) * h * 3);
-    std::vector<float> ratio(size_t(w) * h, 0.0f);
-    double sum_diff = 0, sum_noise = 0;
-    int beyond = 0;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        double worst = 0;
-        for (int ch = 0; ch < 3; ++ch) {
-          const size_t i = (size_t(y) * w + x) * 3 + ch;
-          yours.rgb[i] = (unsigned char)value_from_top(mine, x, y, ch);
-          const double m = value_from_top(ref.mean, x, y, ch),
-                       sd = std::sqrt(std::max(0.0f, value_from_top(ref.variance, x, y, ch)));
-          const double noise = std::fabs(double(pt::radiance_to_byte(float(m + sd))) - pt::radiance_to_byte(float(m)));
-          const double d = std::fabs(double(value_from_top(mine, x, y, ch)) - reference.rgb[i]);
-          sum_diff += d;
-          sum_noise += noise;
-          worst = std::max(worst, d / (4 * noise + 2));
-        }
-        ratio[size_t(y) * w + x] = float(worst);
-        beyond += worst > 1;
-      }
-    const double n = 3.0 * w * h;
-    verdict = "compared in 8 bits (no verdict: render with --pfm for the grader's statistics)";
-    lines.push_back(fmt("mean |difference| %.2f levels of 255", sum_diff / n) +
-                    fmt(", noise alone gives about %.2f", 0.8 * sum_noise / n));
-    lines.push_back(fmt("%.2f %% of the pixels differ by more than four noise levels (+2)", 100.0 * beyond / (w * h)));
-    difference = error_picture(ratio, w, h, 1.0);
-    lines.push_back("difference: the byte difference against four noise levels (+2), black to white; red beyond it");
-  }
+  const Comparison r = pfm ? compare_pfm(c, ref, file, mine) : compare_png(ref, reference, mine);
 
+  std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) throw std::runtime_error(out_dir + ": " + ec.message());
   const std::string png_name = "compare_" + c.name + ".png";
-  save_picture(out_dir + "/" + png_name, side_by_side({yours, reference, difference}, 4));
+  save_picture(out_dir + "/" + png_name, side_by_side({r.yours, reference, r.difference}, 4));
   const std::string page = out_dir + "/compare_" + c.name + ".html";
-  write_page(page, c, file, png_name, verdict, lines);
+  write_page(page, c, file, png_name, r.verdict, r.lines);
 
-  std::printf("%s: %s\n", c.name.c_str(), verdict.c_str());
-  for (const std::string& l : lines) std::printf("  %s\n", l.c_str());
+  std::printf("%s: %s\n", c.name.c_str(), r.verdict.c_str());
+  for (const std::string& l : r.lines) std::printf("  %s\n", l.c_str());
   std::printf("Pictures: %s/%s (yours | reference | difference), %s\n", out_dir.c_str(), png_name.c_str(), page.c_str());
-  return status;
+  return r.status;
 }
 
 }  // namespace grader

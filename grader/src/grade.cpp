@@ -114,6 +114,39 @@ void decide(const std::vector<Check>& checks, CaseResult* r) {
   for (size_t i = 1; i < problems.size(); ++i) r->message += "; " + problems[i];
 }
 
+// The sample-rate image of an adaptive case, scored as an image of its own.
+Check rate_check(const Case& c, const Reference& ref, const RenderOutput& out) {
+  ScoreOptions ro;
+  ro.channels = 1;           // the rate is in every channel
+  ro.variance_floor = 1e-3;  // rates move in steps of one batch
+  ro.pixel_slack = rate_step(c);
+  return check_rate_image(score_image(out.rate, ref.rate_mean, ref.rate_variance, ref.runs, ro), c.points);
+}
+
+// Costs, from part 2 on (part 1 tests every primitive by design): per
+// kind of query, so that a BVH that culls for camera rays but not for
+// shadow rays shows, and shadow rays per closest-hit query (one per delta
+// light, none for a light below the surface).
+Check cost_check(const Case& c, const RenderOutput& out, const CostBounds& bounds, CaseResult* r) {
+  const QueryCosts reference{r->reference_closest_tests, r->reference_shadow_tests, r->reference_shadow_per_query};
+  QueryCosts measured;
+  Check k = check_costs(out.has_stats ? &out.stats : nullptr, reference, bounds, c.points, &measured);
+  r->closest_tests = measured.closest_tests;
+  r->shadow_tests = measured.shadow_tests;
+  r->shadow_per_query = measured.shadow_per_query;
+  return k;
+}
+
+// The BVH's speed-up: the same case rendered with --part 1, in this run.
+Check speedup_check(const RunSettings& run, const Case& c, uint64_t seed, const std::string& case_dir,
+                    const CostBounds& bounds, CaseResult* r) {
+  const RenderOutput p1 = render_case(run, c, 1, seed, case_dir + "/part1", false);
+  r->seconds += p1.seconds;
+  for (const std::string& t : p1.todo)
+    if (std::find(r->todo.begin(), r->todo.end(), t) == r->todo.end()) r->todo.push_back(t);
+  return check_speedup(p1, r->render_seconds, r->tests_per_ray, bounds, c.points, &r->part1_seconds, &r->speedup);
+}
+
 }  // namespace
 
 CaseResult grade_case(const RunSettings& run, const std::string& reference_root, const Case& c, uint64_t seed,
@@ -155,33 +188,9 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   save_pictures(case_dir, out, ref, img);
   checks.push_back(check_image(img, c.points));
 
-  if (c.kind == CaseKind::Rate) {
-    ScoreOptions ro;
-    ro.channels = 1;           // the rate is in every channel
-    ro.variance_floor = 1e-3;  // rates move in steps of one batch
-    ro.pixel_slack = rate_step(c);
-    checks.push_back(check_rate_image(score_image(out.rate, ref.rate_mean, ref.rate_variance, ref.runs, ro), c.points));
-  }
-  // Costs, from part 2 on (part 1 tests every primitive by design): per
-  // kind of query, so that a BVH that culls for camera rays but not for
-  // shadow rays shows, and shadow rays per closest-hit query (one per delta
-  // light, none for a light below the surface).
-  if (c.part >= 2) {
-    const QueryCosts reference{r.reference_closest_tests, r.reference_shadow_tests, r.reference_shadow_per_query};
-    QueryCosts measured;
-    checks.push_back(check_costs(out.has_stats ? &out.stats : nullptr, reference, bounds, c.points, &measured));
-    r.closest_tests = measured.closest_tests;
-    r.shadow_tests = measured.shadow_tests;
-    r.shadow_per_query = measured.shadow_per_query;
-  }
-  if (c.kind == CaseKind::Speedup) {
-    const RenderOutput p1 = render_case(run, c, 1, seed, case_dir + "/part1", false);
-    r.seconds += p1.seconds;
-    for (const std::string& t : p1.todo)
-      if (std::find(r.todo.begin(), r.todo.end(), t) == r.todo.end()) r.todo.push_back(t);
-    checks.push_back(
-        check_speedup(p1, r.render_seconds, r.tests_per_ray, bounds, c.points, &r.part1_seconds, &r.speedup));
-  }
+  if (c.kind == CaseKind::Rate) checks.push_back(rate_check(c, ref, out));
+  if (c.part >= 2) checks.push_back(cost_check(c, out, bounds, &r));
+  if (c.kind == CaseKind::Speedup) checks.push_back(speedup_check(run, c, seed, case_dir, bounds, &r));
 
   for (const Check& k : checks) r.metric += k.metric;
   decide(checks, &r);

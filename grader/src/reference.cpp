@@ -124,6 +124,106 @@ std::string meta_text(const Json& meta) {
   return pt::write_json(out);
 }
 
+// What the reference renders of one case gathered.
+struct ReferenceRuns {
+  Accumulator radiance, rate;
+  std::vector<double> seconds, render_seconds;
+  CostSamples costs;
+  std::vector<ImageBuffer> first_two = std::vector<ImageBuffer>(2);
+  std::string failure;  // the first run that failed, if any
+  bool deterministic = false;
+};
+
+// Renders runs [first, total) of a case, s.jobs at a time, into runs.
+void render_reference_batch(const Case& c, const MakeSettings& s, bool want_rate, int first, int total,
+                            ReferenceRuns& runs) {
+  std::mutex mu;
+  std::atomic<int> next{first};
+  const auto worker = [&]() {
+    for (;;) {
+      const int i = next.fetch_add(1);
+      if (i >= total) return;
+      {
+        std::lock_guard<std::mutex> lock(mu);
+        if (!runs.failure.empty()) return;
+      }
+      const std::string run_dir = s.work_dir + "/" + c.name + "_" + std::to_string(i);
+      RenderOutput out = render_case(s.run, c, c.part, s.first_seed + uint64_t(i), run_dir, want_rate);
+      std::error_code ec;
+      fs::remove_all(run_dir, ec);
+      std::lock_guard<std::mutex> lock(mu);
+      if (!out.ok) {
+        runs.failure = "reference run " + std::to_string(i) + " failed: " + out.failure;
+        return;
+      }
+      if (i < 2) runs.first_two[size_t(i)] = out.radiance;
+      runs.radiance.add(out.radiance);
+      if (want_rate) runs.rate.add(out.rate);
+      runs.seconds.push_back(out.seconds);
+      if (out.has_stats) {
+        runs.render_seconds.push_back(out.stats.num("render_seconds", 0));
+        runs.costs.add(out.stats);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, std::min(s.jobs, total)); ++j) pool.emplace_back(worker);
+  for (auto& t : pool) t.join();
+}
+
+// Two runs first: when they agree exactly the image is deterministic
+// (normal shading at one sample per pixel) and two are all it needs.
+void render_reference_runs(const Case& c, const MakeSettings& s, bool want_rate, ReferenceRuns& runs) {
+  render_reference_batch(c, s, want_rate, 0, 2, runs);
+  runs.deterministic = runs.failure.empty() && runs.first_two[0].pixels == runs.first_two[1].pixels;
+  if (runs.failure.empty() && !runs.deterministic && s.runs > 2) render_reference_batch(c, s, want_rate, 2, s.runs, runs);
+}
+
+// The BVH's speed-up: one brute-force render, timed against the BVH's.
+bool measure_part1(const Case& c, const MakeSettings& s, double* seconds, double* tests_per_ray,
+                   std::string* message) {
+  RenderOutput p1 = render_case(s.run, c, 1, s.first_seed, s.work_dir + "/" + c.name + "_part1", false);
+  if (!p1.ok || !p1.has_stats) {
+    *message = "reference --part 1 run failed: " + (p1.ok ? std::string("no statistics") : p1.failure);
+    return false;
+  }
+  *seconds = p1.stats.num("render_seconds", 0);
+  *tests_per_ray = stat_ratio(p1.stats, "primitive_tests", "rays");
+  return true;
+}
+
+// Writes the images, then meta.json last: an interrupted write leaves the
+// case incomplete, and the next run remakes it. Throws on a failed write.
+void write_reference(const std::string& dir, const Case& c, const MakeSettings& s, const ReferenceRuns& runs,
+                     bool want_rate, double part1_seconds, double part1_tests_per_ray, pt::Clock::time_point t0) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  fs::remove(dir + "/meta.json", ec);  // incomplete until rewritten
+  pt::write_pfm(dir + "/mean.pfm", runs.radiance.mean_image());
+  pt::write_pfm(dir + "/variance.pfm", runs.radiance.variance_image());
+  if (want_rate) {
+    pt::write_pfm(dir + "/rate_mean.pfm", runs.rate.mean_image());
+    pt::write_pfm(dir + "/rate_variance.pfm", runs.rate.variance_image());
+  }
+  Json meta = pt::json_object();
+  meta.set("case", pt::json_text(c.name))
+      .set("digest", pt::json_text(case_digest(c)))
+      .set("command", pt::json_text("pathtracer " + case_command(c) + " -t " + std::to_string(s.run.threads)))
+      .set("runs", pt::json_real(runs.radiance.n))
+      .set("deterministic", pt::json_bool(runs.deterministic))
+      .set("first_seed", pt::json_real(double(s.first_seed)))
+      .set("commit", pt::json_text(s.commit))
+      .set("date", pt::json_text(utc_now()))
+      .set("making_seconds", pt::json_real(pt::seconds_since(t0)))
+      .set("process_seconds_median", pt::json_real(median(runs.seconds)))
+      .set("render_seconds_median", pt::json_real(median(runs.render_seconds)));
+  record_costs(&meta, runs.costs);
+  meta.set("part1_render_seconds", pt::json_real(part1_seconds))
+      .set("part1_tests_per_ray", pt::json_real(part1_tests_per_ray))
+      .set("mean_radiance", pt::json_real(runs.radiance.mean_radiance()));
+  write_text(dir + "/meta.json", meta_text(meta));
+}
+
 }  // namespace
 
 bool make_reference(const std::string& root, const Case& c, const MakeSettings& s, std::string* message) {
@@ -138,102 +238,22 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
   }
   const bool want_rate = c.kind == CaseKind::Rate;
   const auto t0 = pt::Clock::now();
-
-  // Two runs first: when they agree exactly the image is deterministic
-  // (normal shading at one sample per pixel) and two are all it needs.
-  std::mutex mu;
-  Accumulator radiance, rate;
-  std::vector<double> seconds, render_seconds;
-  CostSamples costs;
-  std::vector<ImageBuffer> first_two(2);
-  std::string failure;
-  std::atomic<int> next{0};
-  const auto worker = [&](int total) {
-    for (;;) {
-      const int i = next.fetch_add(1);
-      if (i >= total) return;
-      {
-        std::lock_guard<std::mutex> lock(mu);
-        if (!failure.empty()) return;
-      }
-      const std::string run_dir = s.work_dir + "/" + c.name + "_" + std::to_string(i);
-      RenderOutput out = render_case(s.run, c, c.part, s.first_seed + uint64_t(i), run_dir, want_rate);
-      std::error_code ec;
-      fs::remove_all(run_dir, ec);
-      std::lock_guard<std::mutex> lock(mu);
-      if (!out.ok) {
-        failure = "reference run " + std::to_string(i) + " failed: " + out.failure;
-        return;
-      }
-      if (i < 2) first_two[size_t(i)] = out.radiance;
-      radiance.add(out.radiance);
-      if (want_rate) rate.add(out.rate);
-      seconds.push_back(out.seconds);
-      if (out.has_stats) {
-        render_seconds.push_back(out.stats.num("render_seconds", 0));
-        costs.add(out.stats);
-      }
-    }
-  };
-  const auto run_batch = [&](int first, int total) {
-    next.store(first);
-    std::vector<std::thread> pool;
-    for (int j = 0; j < std::max(1, std::min(s.jobs, total)); ++j) pool.emplace_back(worker, total);
-    for (auto& t : pool) t.join();
-  };
-  run_batch(0, 2);
-  const bool deterministic = failure.empty() && first_two[0].pixels == first_two[1].pixels;
-  if (failure.empty() && !deterministic && s.runs > 2) run_batch(2, s.runs);
-  if (!failure.empty()) {
-    *message = failure;
+  ReferenceRuns runs;
+  render_reference_runs(c, s, want_rate, runs);
+  if (!runs.failure.empty()) {
+    *message = runs.failure;
     return false;
   }
-
-  // The BVH's speed-up: one brute-force render, timed against the BVH's.
   double part1_seconds = 0, part1_tests_per_ray = 0;
-  if (c.kind == CaseKind::Speedup) {
-    RenderOutput p1 = render_case(s.run, c, 1, s.first_seed, s.work_dir + "/" + c.name + "_part1", false);
-    if (!p1.ok || !p1.has_stats) {
-      *message = "reference --part 1 run failed: " + (p1.ok ? std::string("no statistics") : p1.failure);
-      return false;
-    }
-    part1_seconds = p1.stats.num("render_seconds", 0);
-    part1_tests_per_ray = stat_ratio(p1.stats, "primitive_tests", "rays");
-  }
-
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  fs::remove(dir + "/meta.json", ec);  // incomplete until rewritten
+  if (c.kind == CaseKind::Speedup && !measure_part1(c, s, &part1_seconds, &part1_tests_per_ray, message)) return false;
   try {
-    pt::write_pfm(dir + "/mean.pfm", radiance.mean_image());
-    pt::write_pfm(dir + "/variance.pfm", radiance.variance_image());
-    if (want_rate) {
-      pt::write_pfm(dir + "/rate_mean.pfm", rate.mean_image());
-      pt::write_pfm(dir + "/rate_variance.pfm", rate.variance_image());
-    }
-    Json meta = pt::json_object();
-    meta.set("case", pt::json_text(c.name))
-        .set("digest", pt::json_text(case_digest(c)))
-        .set("command", pt::json_text("pathtracer " + case_command(c) + " -t " + std::to_string(s.run.threads)))
-        .set("runs", pt::json_real(radiance.n))
-        .set("deterministic", pt::json_bool(deterministic))
-        .set("first_seed", pt::json_real(double(s.first_seed)))
-        .set("commit", pt::json_text(s.commit))
-        .set("date", pt::json_text(utc_now()))
-        .set("making_seconds", pt::json_real(pt::seconds_since(t0)))
-        .set("process_seconds_median", pt::json_real(median(seconds)))
-        .set("render_seconds_median", pt::json_real(median(render_seconds)));
-    record_costs(&meta, costs);
-    meta.set("part1_render_seconds", pt::json_real(part1_seconds))
-        .set("part1_tests_per_ray", pt::json_real(part1_tests_per_ray))
-        .set("mean_radiance", pt::json_real(radiance.mean_radiance()));
-    write_text(dir + "/meta.json", meta_text(meta));
+    write_reference(dir, c, s, runs, want_rate, part1_seconds, part1_tests_per_ray, t0);
   } catch (const std::exception& e) {
     *message = e.what();
     return false;
   }
   char buf[160];
-  std::snprintf(buf, sizeof buf, "%d runs%s, %.1f s", radiance.n, deterministic ? " (deterministic)" : "",
+  std::snprintf(buf, sizeof buf, "%d runs%s, %.1f s", runs.radiance.n, runs.deterministic ? " (deterministic)" : "",
                 pt::seconds_since(t0));
   *message = buf;
   return true;

@@ -106,96 +106,123 @@ std::vector<std::string> render_argv(const RunSettings& s, const Case& c, int pa
   return argv;
 }
 
+// Each step below checks one thing about a render's files; false with
+// *failure set when it is wrong.
+
+bool output_within_limit(const RunSettings& s, const std::string& abs_dir, std::string* failure) {
+  const uint64_t bytes = directory_bytes(abs_dir);
+  if (bytes <= s.output_bytes) return true;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "wrote %.0f MB, more than the %.0f MB limit", double(bytes) / (1 << 20),
+                double(s.output_bytes) / (1 << 20));
+  *failure = buf;
+  return false;
+}
+
+// Every file read must be a regular file: opening a named pipe that no
+// one writes would block the grader forever.
+bool present(const std::string& path, const std::string& name, const std::string& flag, std::string* failure) {
+  std::error_code st_ec;
+  const fs::file_status st = fs::status(path, st_ec);
+  if (!fs::exists(st)) *failure = "wrote no " + name + " (" + flag + ")";
+  else if (!fs::is_regular_file(st)) *failure = "the " + name + " (" + flag + ") is not a regular file";
+  return fs::is_regular_file(st);
+}
+
+// The course's PNG must be there and be a real PNG of the right size.
+bool check_png(const std::string& abs_dir, int w, int h, std::string* failure) {
+  if (!present(abs_dir + "/render.png", "image", "-f render.png", failure)) return false;
+  try {
+    const ImageBuffer png = read_png_image(abs_dir + "/render.png");
+    return size_matches(png, w, h, "the PNG image", failure);
+  } catch (const std::exception& e) {
+    *failure = std::string("unreadable PNG: ") + e.what();
+    return false;
+  }
+}
+
+// The float image is what gets scored.
+bool read_radiance(const std::string& abs_dir, int w, int h, ImageBuffer* radiance, std::string* failure) {
+  if (!present(abs_dir + "/render.pfm", "floating-point image", "--pfm render.pfm", failure)) return false;
+  try {
+    *radiance = pt::read_pfm(abs_dir + "/render.pfm");
+  } catch (const std::exception& e) {
+    *failure = std::string("unreadable PFM: ") + e.what();
+    return false;
+  }
+  return size_matches(*radiance, w, h, "the PFM image", failure);
+}
+
+bool all_finite(const ImageBuffer& radiance, std::string* failure) {
+  int fx = 0, fy = 0;
+  const int bad = count_non_finite(radiance, &fx, &fy);
+  if (!bad) return true;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%d pixel%s NaN or infinite (the first at x=%d, y=%d from the top)", bad,
+                bad == 1 ? " is" : "s are", fx, fy);
+  *failure = buf;
+  return false;
+}
+
+// Radiance is never negative; a negative pixel means a negative
+// contribution was added (a light sample below the surface, say).
+// Float round-off of a correct sum can dip just below zero (-1e-7 on
+// values near 1), so only values below -kNegativeTolerance count.
+bool none_negative(const ImageBuffer& radiance, std::string* failure) {
+  constexpr float kNegativeTolerance = 1e-4f;
+  int negative = 0, nx = 0, ny = 0;
+  for (int y = 0; y < radiance.height; ++y)
+    for (int x = 0; x < radiance.width; ++x)
+      for (int ch = 0; ch < 3; ++ch)
+        if (value_from_top(radiance, x, y, ch) < -kNegativeTolerance) {
+          if (negative++ == 0) nx = x, ny = y;
+          break;
+        }
+  if (negative == 0) return true;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%d pixel%s negative radiance below -1e-4 (the first at x=%d, y=%d from the top)", negative,
+                negative == 1 ? " has" : "s have", nx, ny);
+  *failure = buf;
+  return false;
+}
+
+bool read_rate(const std::string& abs_dir, int w, int h, ImageBuffer* rate, std::string* failure) {
+  const std::string rate_path = abs_dir + "/render_rate.png";
+  if (!present(rate_path, "sample-rate image", "render_rate.png", failure)) return false;
+  try {
+    *rate = rate_from_colors(read_png_image(rate_path));
+  } catch (const std::exception& e) {
+    *failure = std::string("unreadable rate PNG: ") + e.what();
+    return false;
+  }
+  return size_matches(*rate, w, h, "the rate image", failure);
+}
+
+// Only cost cases need the statistics, and they say so when it is missing.
+void read_stats(const std::string& abs_dir, RenderOutput* out) {
+  std::error_code ec;
+  if (!fs::is_regular_file(abs_dir + "/stats.json", ec)) return;
+  try {
+    out->stats = pt::read_json_file(abs_dir + "/stats.json");
+    out->has_stats = out->stats.type == Json::Type::Object;
+  } catch (const std::exception&) {
+    out->has_stats = false;
+  }
+}
+
 // Checks the files of a render that exited normally in `abs_dir` and reads
 // them into `out`: the folder's size, the PNG, the PFM (finite, not
 // negative), the rate PNG when `want_rate`, and the statistics when there
 // are any. False with out->failure set at the first problem.
 bool read_outputs(const RunSettings& s, const Case& c, const std::string& abs_dir, bool want_rate, RenderOutput* out) {
-  std::error_code ec;
-  const uint64_t bytes = directory_bytes(abs_dir);
-  if (bytes > s.output_bytes) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "wrote %.0f MB, more than the %.0f MB limit", double(bytes) / (1 << 20),
-                  double(s.output_bytes) / (1 << 20));
-    out->failure = buf;
-    return false;
-  }
+  if (!output_within_limit(s, abs_dir, &out->failure)) return false;
   int w = 0, h = 0;
   case_resolution(c, &w, &h);
-  // Every file read must be a regular file: opening a named pipe that no
-  // one writes would block the grader forever.
-  const auto present = [&](const std::string& path, const std::string& name, const std::string& flag) {
-    std::error_code st_ec;
-    const fs::file_status st = fs::status(path, st_ec);
-    if (!fs::exists(st)) out->failure = "wrote no " + name + " (" + flag + ")";
-    else if (!fs::is_regular_file(st)) out->failure = "the " + name + " (" + flag + ") is not a regular file";
-    return fs::is_regular_file(st);
-  };
-  // The course's PNG must be there and be a real PNG of the right size.
-  if (!present(abs_dir + "/render.png", "image", "-f render.png")) return false;
-  try {
-    const ImageBuffer png = read_png_image(abs_dir + "/render.png");
-    if (!size_matches(png, w, h, "the PNG image", &out->failure)) return false;
-  } catch (const std::exception& e) {
-    out->failure = std::string("unreadable PNG: ") + e.what();
-    return false;
-  }
-  // The float image is what gets scored.
-  if (!present(abs_dir + "/render.pfm", "floating-point image", "--pfm render.pfm")) return false;
-  try {
-    out->radiance = pt::read_pfm(abs_dir + "/render.pfm");
-  } catch (const std::exception& e) {
-    out->failure = std::string("unreadable PFM: ") + e.what();
-    return false;
-  }
-  if (!size_matches(out->radiance, w, h, "the PFM image", &out->failure)) return false;
-  int fx = 0, fy = 0;
-  if (const int bad = count_non_finite(out->radiance, &fx, &fy)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%d pixel%s NaN or infinite (the first at x=%d, y=%d from the top)", bad,
-                  bad == 1 ? " is" : "s are", fx, fy);
-    out->failure = buf;
-    return false;
-  }
-  // Radiance is never negative; a negative pixel means a negative
-  // contribution was added (a light sample below the surface, say).
-  // Float round-off of a correct sum can dip just below zero (-1e-7 on
-  // values near 1), so only values below -kNegativeTolerance count.
-  constexpr float kNegativeTolerance = 1e-4f;
-  int negative = 0, nx = 0, ny = 0;
-  for (int y = 0; y < out->radiance.height; ++y)
-    for (int x = 0; x < out->radiance.width; ++x)
-      for (int ch = 0; ch < 3; ++ch)
-        if (value_from_top(out->radiance, x, y, ch) < -kNegativeTolerance) {
-          if (negative++ == 0) nx = x, ny = y;
-          break;
-        }
-  if (negative > 0) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%d pixel%s negative radiance below -1e-4 (the first at x=%d, y=%d from the top)", negative,
-                  negative == 1 ? " has" : "s have", nx, ny);
-    out->failure = buf;
-    return false;
-  }
-  if (want_rate) {
-    const std::string rate_path = abs_dir + "/render_rate.png";
-    if (!present(rate_path, "sample-rate image", "render_rate.png")) return false;
-    try {
-      out->rate = rate_from_colors(read_png_image(rate_path));
-    } catch (const std::exception& e) {
-      out->failure = std::string("unreadable rate PNG: ") + e.what();
-      return false;
-    }
-    if (!size_matches(out->rate, w, h, "the rate image", &out->failure)) return false;
-  }
-  if (fs::is_regular_file(abs_dir + "/stats.json", ec)) {
-    try {
-      out->stats = pt::read_json_file(abs_dir + "/stats.json");
-      out->has_stats = out->stats.type == Json::Type::Object;
-    } catch (const std::exception&) {
-      out->has_stats = false;  // only cost cases need it; they say so
-    }
-  }
+  if (!check_png(abs_dir, w, h, &out->failure)) return false;
+  if (!read_radiance(abs_dir, w, h, &out->radiance, &out->failure)) return false;
+  if (!all_finite(out->radiance, &out->failure) || !none_negative(out->radiance, &out->failure)) return false;
+  if (want_rate && !read_rate(abs_dir, w, h, &out->rate, &out->failure)) return false;
+  read_stats(abs_dir, out);
   return true;
 }
 

@@ -1,0 +1,225 @@
+#include "commands.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+
+#include "clock.h"
+#include "compare.h"
+#include "grade.h"
+#include "image_io.h"
+#include "reports.h"
+#include "text.h"
+
+namespace grader {
+namespace cli {
+
+namespace fs = std::filesystem;
+
+std::string executable_dir() {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : self.parent_path().string();
+}
+
+void Common::add_to(CLI::App* app, bool with_binary) {
+  if (with_binary) app->add_option("--pathtracer", pathtracer, "The pathtracer binary to run")->capture_default_str();
+  app->add_option("--cases", cases, "The case list")->capture_default_str();
+  app->add_option("--references", references, "The reference folder")->capture_default_str();
+  app->add_option("--scenes", scenes, "Where the cases' scenes are")->capture_default_str();
+  app->add_option("--part", parts, "Only these parts (repeatable)")->check(CLI::Range(1, 5));
+  app->add_option("--case", names, "Only these cases (repeatable)");
+  app->add_option("--shard", shard, "K/N: only the K-th of N equal slices of the cases (K = 1..N)");
+  app->add_option("-j,--jobs", jobs, "Cases (or renders) at a time")->check(CLI::Range(1, 256))->capture_default_str();
+  app->add_option("-t,--threads", threads, "Threads per render (-t)")->check(CLI::Range(1, 256))->capture_default_str();
+  app->add_option("--timeout-scale", timeout_scale, "Multiply every case's timeout (slow machines)")
+      ->check(CLI::Range(0.01, 1000.0))->capture_default_str();
+  app->add_option("--memory-mb", memory_mb, "Address-space limit per render")->check(CLI::Range(64, 1 << 20))->capture_default_str();
+  app->add_option("--output-mb", output_mb, "Output-size limit per render")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+}
+
+RunSettings Common::run_settings() const {
+  RunSettings s;
+  s.pathtracer = pathtracer;
+  s.scenes_dir = scenes;
+  s.threads = threads;
+  s.timeout_scale = timeout_scale;
+  s.memory_bytes = uint64_t(memory_mb) << 20;
+  s.output_bytes = uint64_t(output_mb) << 20;
+  return s;
+}
+
+std::vector<Case> Common::select() const {
+  std::vector<Case> all = read_cases(cases);
+  std::set<std::string> known;
+  for (const Case& c : all) known.insert(c.name);
+  for (const std::string& n : names)
+    if (!known.count(n)) throw std::runtime_error(cases + ": no case named '" + n + "'");
+  std::vector<Case> chosen;
+  for (const Case& c : all) {
+    if (!parts.empty() && std::find(parts.begin(), parts.end(), c.part) == parts.end()) continue;
+    if (!names.empty() && std::find(names.begin(), names.end(), c.name) == names.end()) continue;
+    chosen.push_back(c);
+  }
+  if (!shard.empty()) {
+    int k = 0, n = 0;
+    char slash = 0;
+    std::istringstream in(shard);
+    if (!(in >> k >> slash >> n) || slash != '/' || n < 1 || k < 1 || k > n || !in.eof())
+      throw std::runtime_error("--shard " + shard + ": expected K/N with 1 <= K <= N");
+    std::vector<Case> mine;
+    for (size_t i = 0; i < chosen.size(); ++i)
+      if (int(i % size_t(n)) == k - 1) mine.push_back(chosen[i]);
+    chosen = mine;
+  }
+  return chosen;
+}
+
+void Common::check_binary() const {
+  // access() alone accepts a directory (X_OK is search permission there).
+  std::error_code ec;
+  if (!fs::is_regular_file(pathtracer, ec) || access(pathtracer.c_str(), X_OK) != 0)
+    throw std::runtime_error(pathtracer + ": not an executable file");
+}
+
+int exit_code_for(const std::vector<CaseResult>& results) {
+  int code = kAllPassed;
+  for (const auto& r : results) {
+    if (r.verdict == Verdict::Error) return kUsageError;
+    if (r.verdict == Verdict::Failed) code = kSomeFailed;
+  }
+  return code;
+}
+
+std::string git_commit() {
+  FILE* p = popen(("git -C '" + std::string(PT_SOURCE_DIR) + "' rev-parse --short HEAD 2>/dev/null").c_str(), "r");
+  if (!p) return "unknown";
+  char buf[64] = {0};
+  const bool ok = std::fgets(buf, sizeof buf, p) != nullptr;
+  pclose(p);
+  std::string s = ok ? buf : "unknown";
+  while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
+  return s;
+}
+
+int command_run(const Common& common, const std::string& out, uint64_t seed, bool quiet) {
+  const auto t0 = pt::Clock::now();
+  const std::string started = utc_now();
+  const std::vector<Case> cases = common.select();
+  common.check_binary();
+  fs::create_directories(out + "/cases");
+  std::vector<CaseResult> results(cases.size());
+  std::mutex mu;
+  int done = 0;
+  const RunSettings run = common.run_settings();
+  const CostBounds bounds;
+  parallel_for(int(cases.size()), common.jobs, [&](int i) {
+    const Case& c = cases[size_t(i)];
+    const std::string dir = out + "/cases/" + c.name;
+    CaseResult r;
+    try {
+      r = grade_case(run, common.references, c, seed, dir, bounds);
+    } catch (const std::exception& e) {
+      r.c = c;
+      r.max_score = c.points;
+      r.verdict = Verdict::Error;
+      r.message = std::string("grader error: ") + e.what();
+      r.dir = dir;
+    }
+    try {
+      fs::create_directories(dir);
+      write_text(dir + "/result.json", case_result_json(r));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "grader: %s\n", e.what());
+    }
+    std::lock_guard<std::mutex> lock(mu);
+    results[size_t(i)] = r;
+    ++done;
+    if (!quiet)
+      std::printf("[%2d/%zu] %-24s %-7s %6.1f s  %s\n", done, cases.size(), c.name.c_str(), verdict_name(r.verdict),
+                  r.seconds, r.verdict == Verdict::Passed ? "" : r.message.c_str());
+    std::fflush(stdout);
+  });
+  RunInfo info;
+  info.pathtracer = fs::absolute(common.pathtracer).string();
+  info.started = started;
+  info.wall_seconds = pt::seconds_since(t0);
+  info.jobs = common.jobs;
+  info.threads = common.threads;
+  info.seed = seed;
+  write_reports(out, results, info);
+  std::printf("\n%s", terminal_table(results).c_str());
+  std::printf("Reports: %s/{report.txt,timing.md,results.json,report.html} (%.0f s)\n", out.c_str(),
+              info.wall_seconds);
+  return exit_code_for(results);
+}
+
+int command_merge(const Common& common, const std::string& out, const std::vector<std::string>& shard_dirs) {
+  std::vector<CaseResult> results;
+  std::set<std::string> seen;
+  for (const std::string& d : shard_dirs) {
+    if (!fs::is_directory(d + "/cases")) throw std::runtime_error(d + ": not a grader output folder (no cases/)");
+    for (const auto& entry : fs::directory_iterator(d + "/cases")) {
+      const std::string path = entry.path().string() + "/result.json";
+      if (!fs::exists(path)) continue;
+      CaseResult r;
+      if (!case_result_from_json(pt::read_json_file(path), &r)) throw std::runtime_error(path + ": not a case result");
+      if (!seen.insert(r.c.name).second) throw std::runtime_error(path + ": case " + r.c.name + " graded twice");
+      results.push_back(r);
+    }
+  }
+  // In the case list's order when it is readable, else by part and name.
+  std::map<std::string, int> order;
+  try {
+    const std::vector<Case> all = read_cases(common.cases);
+    for (size_t i = 0; i < all.size(); ++i) order[all[i].name] = int(i);
+  } catch (const std::exception&) {
+  }
+  std::stable_sort(results.begin(), results.end(), [&](const CaseResult& a, const CaseResult& b) {
+    const int ia = order.count(a.c.name) ? order[a.c.name] : 1 << 30, ib = order.count(b.c.name) ? order[b.c.name] : 1 << 30;
+    return ia != ib ? ia < ib : (a.c.part != b.c.part ? a.c.part < b.c.part : a.c.name < b.c.name);
+  });
+  fs::create_directories(out);
+  RunInfo info;
+  info.pathtracer = "(merged from " + std::to_string(shard_dirs.size()) + " shards)";
+  info.started = utc_now();
+  for (const auto& r : results) info.wall_seconds += r.seconds;
+  write_reports(out, results, info);
+  std::printf("%s", terminal_table(results).c_str());
+  return exit_code_for(results);
+}
+
+namespace {
+
+// `path` as the user would type it from here: relative when it lies below
+// the current folder.
+std::string as_typed(const std::string& path) {
+  std::error_code ec;
+  const fs::path rel = fs::relative(path, fs::current_path(ec), ec);
+  const std::string r = rel.string();
+  return ec || r.empty() || r.rfind("..", 0) == 0 ? path : r;
+}
+
+}  // namespace
+
+int command_compare(const Common& common, bool list, const std::string& name, const std::string& file,
+                    const std::string& out) {
+  const std::vector<Case> cases = read_cases(common.cases);
+  if (list) {
+    print_case_commands(cases, as_typed(common.pathtracer), as_typed(common.scenes));
+    return kAllPassed;
+  }
+  if (name.empty() || file.empty())
+    throw std::runtime_error("compare: give a case and your render (grader compare CASE FILE), or --list");
+  for (const Case& c : cases)
+    if (c.name == name) return compare_render(c, common.references, file, out);
+  throw std::runtime_error(common.cases + ": no case named '" + name + "' (grader compare --list shows them)");
+}
+
+}  // namespace cli
+}  // namespace grader

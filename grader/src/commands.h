@@ -1,0 +1,77 @@
+// The grader's commands (`grader run`, `merge`, `compare`,
+// `make-references`, `calibrate`) and the options they share; main.cpp
+// parses the command line and calls one of them.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "case_list.h"
+#include "case_result.h"
+#include "run_case.h"
+
+namespace grader {
+namespace cli {
+
+// Exit codes.
+constexpr int kAllPassed = 0, kSomeFailed = 1, kUsageError = 2;
+
+// The folder the running grader's binary is in.
+std::string executable_dir();
+
+// The options every command shares.
+struct Common {
+  std::string pathtracer = executable_dir() + "/pathtracer";
+  std::string cases = std::string(PT_SOURCE_DIR) + "/grader/cases.txt";
+  std::string references = std::string(PT_SOURCE_DIR) + "/reference_images";
+  std::string scenes = std::string(PT_SOURCE_DIR) + "/scenes";
+  std::vector<int> parts;
+  std::vector<std::string> names;
+  std::string shard;  // "K/N"
+  int jobs = 2;
+  int threads = 1;
+  double timeout_scale = 1.0;
+  int memory_mb = 4096;
+  int output_mb = 256;
+
+  void add_to(CLI::App* app, bool with_binary);
+  RunSettings run_settings() const;
+  // The selected cases. Throws std::runtime_error on a bad file or filter.
+  std::vector<Case> select() const;
+  // Throws std::runtime_error when --pathtracer is not an executable file.
+  void check_binary() const;
+};
+
+// Runs `task(i)` for i in [0, n) on `jobs` threads.
+template <class F>
+void parallel_for(int n, int jobs, F task) {
+  std::atomic<int> next{0};
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, std::min(jobs, n)); ++j)
+    pool.emplace_back([&] {
+      for (int i; (i = next.fetch_add(1)) < n;) task(i);
+    });
+  for (auto& t : pool) t.join();
+}
+
+// The exit code of `run` and `merge` for these results.
+int exit_code_for(const std::vector<CaseResult>& results);
+
+// The source tree's short commit, or "unknown".
+std::string git_commit();
+
+int command_run(const Common& common, const std::string& out, uint64_t seed, bool quiet);
+int command_merge(const Common& common, const std::string& out, const std::vector<std::string>& shard_dirs);
+int command_compare(const Common& common, bool list, const std::string& name, const std::string& file,
+                    const std::string& out);
+int command_make_references(const Common& common, int runs, bool force, int retime, const std::string& work);
+int command_calibrate(const Common& common, int seeds, uint64_t first_seed, const std::string& table,
+                      const std::string& work);
+
+}  // namespace cli
+}  // namespace grader

@@ -14,6 +14,9 @@
 
 #include "intersector.h"
 #include "scene.h"
+// BEGIN SOLUTION
+#include "bvh_wide.h"
+// END SOLUTION
 
 namespace pt {
 
@@ -69,6 +72,9 @@ class BVH final : public Intersector {
   std::vector<uint32_t> prim_ids_;     // leaf order
   std::vector<PackedTriangle> tris_;   // leaf order, parallel to prim_ids_ (unused for spheres)
   BVHBuildStats stats_;
+  // BEGIN SOLUTION
+  WideBVH wide_;  // the reference's fast path: the tree above, collapsed 4-wide (bvh_wide.h)
+  // END SOLUTION
 };
 
 }  // namespace pt

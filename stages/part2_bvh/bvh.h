@@ -34,6 +34,7 @@ struct BVHOptions {
   int max_leaf_size = 4;  // leaves hold at most this many primitives
   int bins = 12;          // SAH bins per axis
   float traversal_cost = 1.0f;  // SAH: cost of visiting a node relative to one primitive test
+  int build_threads = 0;  // threads the build may use; 0: all the machine's (a builder may ignore it)
 };
 
 struct BVHBuildStats {

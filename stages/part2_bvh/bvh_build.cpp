@@ -2,8 +2,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "bvh.h"
+// BEGIN SOLUTION
+#include "bvh_binning.h"
+// END SOLUTION
 #include "todo.h"
 
 namespace pt {
@@ -20,24 +24,27 @@ struct PrimInfo {
 };
 
 // BEGIN SOLUTION
+// Past this depth splits are at the object median, which bounds the depth
+// (and so the traversal stacks) whatever the primitives' layout: at most
+// 96 + 32 levels.
 constexpr int kMedianDepth = 96;
+// Subtrees of fewer primitives than this are built on the calling thread:
+// below it a thread costs more than it saves.
+constexpr size_t kParallelMin = 8192;
+// Nodes of at most this many primitives get the exact SAH (a full sweep).
+constexpr size_t kSweepMax = 16;
 
-// The bin of a centroid coordinate: (c - lo) * scale cut to [0, nb - 1].
-// The comparisons come before the conversion to int, which is undefined
-// for NaN and for values beyond int's range (a scene whose coordinates
-// reach 1e38 makes both).
-inline int bin_of(float c, float lo, float scale, int nb) {
-  const float f = (c - lo) * scale;
-  if (!(f > 0.0f)) return 0;
-  if (f >= float(nb - 1)) return nb - 1;
-  return int(f);
-}
+// What a finished subtree adds to the statistics. Summed bottom-up, so the
+// totals are the same whichever thread built which subtree.
+struct SubtreeStats {
+  double sah = 0;  // sum of area / root area over interior nodes, times the count over leaves
+  size_t leaves = 0;
+  int depth = 0;  // deepest leaf below the subtree's root (0: the root is a leaf)
+};
 
 struct Builder {
   const BVHOptions& opt;
   std::vector<PrimInfo>& prims;
-  std::vector<BVHNode>& nodes;
-  BVHBuildStats& stats;
   double root_area = 1;
 
   // Box of prims[begin, end) and box of their centroids.
@@ -52,69 +59,96 @@ struct Builder {
     *cbox = c;
   }
 
-  void make_leaf(uint32_t index, size_t begin, size_t end, const BBox& box, int depth) {
-    BVHNode& n = nodes[index];
+  // The exact SAH over prims[begin, end) (at most kSweepMax of them): per
+  // axis, the primitives sorted by centroid and every split between them.
+  // `order` receives the best axis's order (indices from begin); the
+  // split's `bin` is the last primitive of the left side in that order.
+  SahSplit full_sweep(size_t begin, size_t end, uint32_t order[kSweepMax]) const {
+    const size_t n = end - begin;
+    SahSplit best;
+    for (int a = 0; a < 3; ++a) {
+      uint32_t ord[kSweepMax];
+      float key[kSweepMax];
+      for (size_t i = 0; i < n; ++i) {  // insertion sort, stable
+        const float k = prims[begin + i].centroid()[a];
+        size_t j = i;
+        for (; j > 0 && key[j - 1] > k; --j) {
+          key[j] = key[j - 1];
+          ord[j] = ord[j - 1];
+        }
+        key[j] = k;
+        ord[j] = uint32_t(i);
+      }
+      float right_area[kSweepMax];
+      BBox acc;
+      for (size_t i = n - 1; i > 0; --i) {
+        const PrimInfo& p = prims[begin + ord[i]];
+        acc.lo = vmin(acc.lo, p.lo);
+        acc.hi = vmax(acc.hi, p.hi);
+        right_area[i] = acc.surface_area();
+      }
+      acc = BBox();
+      for (size_t i = 0; i + 1 < n; ++i) {  // left: ord[0 .. i]
+        const PrimInfo& p = prims[begin + ord[i]];
+        acc.lo = vmin(acc.lo, p.lo);
+        acc.hi = vmax(acc.hi, p.hi);
+        const float cost = acc.surface_area() * float(i + 1) + right_area[i + 1] * float(n - i - 1);
+        if (cost < best.cost) {
+          best.cost = cost;
+          best.axis = a;
+          best.bin = int(i);
+          best.left = acc;
+          std::copy(ord, ord + n, order);
+        }
+      }
+    }
+    if (best.axis >= 0)
+      for (size_t i = size_t(best.bin) + 1; i < n; ++i) {
+        const PrimInfo& p = prims[begin + order[i]];
+        best.right.lo = vmin(best.right.lo, p.lo);
+        best.right.hi = vmax(best.right.hi, p.hi);
+      }
+    return best;
+  }
+
+  SubtreeStats make_leaf(BVHNode& n, size_t begin, size_t end, const BBox& box) const {
     n.lo = box.lo;
     n.hi = box.hi;
     n.first = uint32_t(begin);
     n.count = uint32_t(end - begin);
-    ++stats.leaves;
-    stats.depth = std::max(stats.depth, depth);
-    stats.sah_cost += double(box.surface_area()) / root_area * double(end - begin);
+    SubtreeStats s;
+    s.sah = double(box.surface_area()) / root_area * double(end - begin);
+    s.leaves = 1;
+    return s;
   }
 
-  // Builds the subtree of prims[begin, end) into nodes[index].
-  void build(uint32_t index, size_t begin, size_t end, int depth) {
-    BBox box, cbox;
-    bounds(begin, end, &box, &cbox);
+  // Builds the subtree of prims[begin, end) (box `box`, centroid box
+  // `cbox`) into nodes[index], appending its descendants to `nodes`, with
+  // up to `threads` threads. The children of a node are made as a pair
+  // (left, left + 1) and then built one after the other, so the nodes come
+  // out in one fixed order: a subtree built on another thread into a vector
+  // of its own is appended exactly where it would have been, and the tree
+  // is the same for any number of threads.
+  SubtreeStats build(std::vector<BVHNode>& nodes, uint32_t index, size_t begin, size_t end, const BBox& box,
+                     const BBox& cbox, int depth, int threads) const {
     const size_t count = end - begin;
-    if (count == 1) {
-      make_leaf(index, begin, end, box, depth);
-      return;
-    }
+    if (count == 1) return make_leaf(nodes[index], begin, end, box);
 
-    // Binned SAH over all three axes: cost(split) = A_left N_left + A_right N_right.
-    const int nb = std::max(2, std::min(opt.bins, 64));
-    int best_axis = -1, best_bin = 0;
-    float best_cost = INFINITY;
+    // The SAH: cost(split) = A_left N_left + A_right N_right. Near the
+    // leaves every split between sorted centroids is tried (exact, and
+    // cheaper than clearing and sweeping the bins for a handful of
+    // primitives); above, binned over all three axes in one pass over the
+    // primitives (bvh_binning.h, with SSE).
+    const int nb = std::max(2, std::min(opt.bins, kMaxSahBins));
     const Vec3 cext = cbox.extent();
-    for (int axis = 0; axis < 3; ++axis) {
-      const float lo = cbox.lo[axis], ext = cext[axis];
-      if (!(ext > 0)) continue;  // all centroids equal along this axis
-      const float scale = float(nb) / ext;
-      BBox bin_box[64];
-      size_t bin_count[64] = {};
-      for (size_t i = begin; i < end; ++i) {
-        const int b = bin_of(prims[i].centroid()[axis], lo, scale, nb);
-        ++bin_count[b];
-        bin_box[b].lo = vmin(bin_box[b].lo, prims[i].lo);
-        bin_box[b].hi = vmax(bin_box[b].hi, prims[i].hi);
-      }
-      // Sweep from the right: area and count of bins [b, nb).
-      float right_area[64];
-      size_t right_count[64];
-      BBox acc;
-      size_t n = 0;
-      for (int b = nb - 1; b > 0; --b) {
-        acc.expand(bin_box[b]);
-        n += bin_count[b];
-        right_area[b] = acc.surface_area();
-        right_count[b] = n;
-      }
-      acc = BBox();
-      n = 0;
-      for (int b = 0; b < nb - 1; ++b) {  // split between bin b and b + 1
-        acc.expand(bin_box[b]);
-        n += bin_count[b];
-        if (n == 0 || right_count[b + 1] == 0) continue;
-        const float cost = acc.surface_area() * float(n) + right_area[b + 1] * float(right_count[b + 1]);
-        if (cost < best_cost) {
-          best_cost = cost;
-          best_axis = axis;
-          best_bin = b;
-        }
-      }
-    }
+    Vec3 scale;
+    for (int a = 0; a < 3; ++a) scale[a] = cext[a] > 0 ? float(nb) / cext[a] : 0.0f;
+    uint32_t sweep_order[kSweepMax];
+    const bool sweep = count <= kSweepMax;
+    const SahSplit split = sweep ? full_sweep(begin, end, sweep_order)
+                                 : sah_best_split(&prims[begin], sizeof(PrimInfo), count, cbox, scale, nb);
+    const int best_axis = split.axis;
+    const float best_cost = split.cost;
 
     // Leaves of at most max_leaf_size primitives are made when the SAH
     // prices them below the best split: n * C_isect against
@@ -122,26 +156,30 @@ struct Builder {
     if (count <= size_t(opt.max_leaf_size)) {
       const float area = box.surface_area();
       const float split_cost = opt.traversal_cost + (area > 0 ? best_cost / area : 0.0f);
-      if (best_axis < 0 || float(count) <= split_cost) {
-        make_leaf(index, begin, end, box, depth);
-        return;
-      }
+      if (best_axis < 0 || float(count) <= split_cost) return make_leaf(nodes[index], begin, end, box);
     }
 
-    size_t mid = begin + count / 2;
-    // Past a generous depth, split at the object median: it bounds the depth
-    // (and so the traversal stack) whatever the primitives' layout.
-    if (depth >= kMedianDepth) best_axis = -1;
-    if (best_axis >= 0) {
-      const float lo = cbox.lo[best_axis], scale = float(nb) / cext[best_axis];
-      auto left_of_split = [&](const PrimInfo& p) { return bin_of(p.centroid()[best_axis], lo, scale, nb) <= best_bin; };
-      mid = size_t(std::partition(prims.begin() + long(begin), prims.begin() + long(end), left_of_split) -
-                   prims.begin());
+    // Partition at the best split, taking the children's centroid boxes on
+    // the way (so no child needs a pass of its own to find them).
+    size_t mid = begin;
+    BBox lbox = split.left, rbox = split.right, lcbox, rcbox;
+    if (sweep && best_axis >= 0) {
+      PrimInfo sorted[kSweepMax];
+      for (size_t i = 0; i < count; ++i) sorted[i] = prims[begin + sweep_order[i]];
+      std::copy(sorted, sorted + count, prims.begin() + long(begin));
+      mid = begin + size_t(split.bin) + 1;
+      BBox unused;
+      bounds(begin, mid, &unused, &lcbox);
+      bounds(mid, end, &unused, &rcbox);
+    } else if (depth < kMedianDepth && best_axis >= 0) {
+      mid = begin + sah_partition(&prims[begin], count, cbox, scale, nb, split, &lcbox, &rcbox);
     }
     if (mid == begin || mid == end) {
-      // No usable split (all centroids in one place): halve the list, which
-      // still bounds the leaf size.
+      // No usable split (all centroids in one place, or too deep): halve
+      // the list, which still bounds the leaf size.
       mid = begin + count / 2;
+      bounds(begin, mid, &lbox, &lcbox);
+      bounds(mid, end, &rbox, &rcbox);
     }
 
     const uint32_t left = uint32_t(nodes.size());
@@ -152,9 +190,30 @@ struct Builder {
     n.hi = box.hi;
     n.first = left;
     n.count = 0;
-    stats.sah_cost += double(box.surface_area()) / root_area;
-    build(left, begin, mid, depth + 1);
-    build(left + 1, mid, end, depth + 1);
+    SubtreeStats ls, rs;
+    if (threads > 1 && count >= kParallelMin) {
+      // The right subtree on a new thread, into a vector of its own whose
+      // node 0 stands for nodes[left + 1].
+      std::vector<BVHNode> right(1);
+      right.reserve(2 * (end - mid));
+      std::thread worker([&] { rs = build(right, 0, mid, end, rbox, rcbox, depth + 1, threads / 2); });
+      ls = build(nodes, left, begin, mid, lbox, lcbox, depth + 1, threads - threads / 2);
+      worker.join();
+      // Append it where the serial build would have put it.
+      const uint32_t offset = uint32_t(nodes.size()) - 1;  // right[k] -> nodes[offset + k], k >= 1
+      for (BVHNode& m : right)
+        if (!m.is_leaf()) m.first += offset;
+      nodes[left + 1] = right[0];
+      nodes.insert(nodes.end(), right.begin() + 1, right.end());
+    } else {
+      ls = build(nodes, left, begin, mid, lbox, lcbox, depth + 1, 1);
+      rs = build(nodes, left + 1, mid, end, rbox, rcbox, depth + 1, 1);
+    }
+    SubtreeStats s;
+    s.sah = double(box.surface_area()) / root_area + ls.sah + rs.sah;
+    s.leaves = ls.leaves + rs.leaves;
+    s.depth = 1 + std::max(ls.depth, rs.depth);
+    return s;
   }
 };
 // END SOLUTION
@@ -181,25 +240,32 @@ void BVH::build(const BVHOptions& options) {
     // BEGIN SOLUTION
     // STUB: todo_once("Part 2: BVH construction (stages/part2_bvh/bvh_build.cpp); using one leaf");
     // STUB: (void)options;
-    // STUB: nodes_.resize(2);
+    // STUB: nodes_.resize(1);
     // STUB: BBox all;
     // STUB: for (const PrimInfo& p : prims) all.expand(BBox(p.lo, p.hi));
     // STUB: nodes_[0].lo = all.lo;
     // STUB: nodes_[0].hi = all.hi;
     // STUB: nodes_[0].first = 0;
     // STUB: nodes_[0].count = uint32_t(prims.size());
+    // STUB: stats_.nodes = 1;
     // STUB: stats_.leaves = 1;
     // STUB: stats_.sah_cost = double(prims.size());
-    nodes_.reserve(2 * (prims.size() / size_t(std::max(1, options.max_leaf_size / 2)) + 1) + 2);
-    nodes_.resize(2);  // the root, and padding so that sibling pairs start at even indices
-    Builder b{options, prims, nodes_, stats_};
+    Builder b{options, prims};
     BBox all, call;
     b.bounds(0, prims.size(), &all, &call);
     b.root_area = std::max(double(all.surface_area()), 1e-30);
-    b.build(0, 0, prims.size(), 0);
+    // Threads: all the machine's by default; the tree does not depend on them.
+    int threads = options.build_threads > 0 ? options.build_threads : int(std::thread::hardware_concurrency());
+    threads = std::max(1, std::min(threads, 64));
+    nodes_.reserve(2 * prims.size());
+    nodes_.resize(1);  // the root
+    const SubtreeStats s = b.build(nodes_, 0, 0, prims.size(), all, call, 0, threads);
+    stats_.nodes = nodes_.size();
+    stats_.leaves = s.leaves;
+    stats_.depth = s.depth;
+    stats_.sah_cost = s.sah;
     // END SOLUTION
   }
-  stats_.nodes = nodes_.empty() ? 0 : nodes_.size() - 1;
 
   // Primitives in leaf order, triangles packed for the intersection test.
   prim_ids_.resize(prims.size());

@@ -17,22 +17,22 @@ namespace pt {
 namespace {
 
 // BEGIN SOLUTION
-// The wide tree is at most as deep as the binary one (under 128 levels, see
-// bvh_build.cpp), and a wide node pushes at most three children.
-constexpr int kStackSize = 3 * 128 + 4;
-
-inline int lowest_bit(int mask) { return __builtin_ctz(unsigned(mask)); }
-
 // The lane of the nearest hit among `mask`; on a tie the last such lane, as
 // testing the lanes one by one with r.max_t shortened at each hit would pick.
 inline int nearest_lane(int mask, const float t[4]) {
-  int best = lowest_bit(mask);
+  int best = __builtin_ctz(unsigned(mask));
   for (mask &= mask - 1; mask != 0; mask &= mask - 1) {
-    const int lane = lowest_bit(mask);
+    const int lane = __builtin_ctz(unsigned(mask));
     if (t[lane] <= t[best]) best = lane;
   }
   return best;
 }
+
+inline int lowest_bit(int mask) { return __builtin_ctz(unsigned(mask)); }
+
+// The wide tree is at most as deep as the binary one (under 128 levels, see
+// bvh_build.cpp), and a wide node pushes at most three children.
+constexpr int kStackSize = 3 * 128 + 4;
 
 // Lanes of a packet that hold primitives (the last packet of a leaf may be
 // partly empty).

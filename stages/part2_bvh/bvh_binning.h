@@ -28,6 +28,8 @@
 namespace pt {
 
 constexpr int kMaxSahBins = 64;
+// Nodes of at most this many primitives get the exact SAH (a full sweep).
+constexpr size_t kMaxSweep = 8;
 
 // The result of the SAH search over all three axes.
 struct SahSplit {
@@ -153,6 +155,70 @@ inline SahSplit sah_best_split(const void* prims, size_t stride, size_t count, c
   return best;
 }
 
+// The exact SAH of `count` <= kMaxSweep primitives (laid out as for
+// sah_best_split): per axis the primitives sorted by centroid, and every
+// split between them. `order` receives the best axis's order (indices from
+// prims); the split's `bin` is the last primitive of the left side in that
+// order. Near the leaves this is cheaper than clearing and sweeping bins for
+// a handful of primitives, and exact.
+inline SahSplit sah_sweep_split(const void* prims, size_t stride, size_t count, uint32_t order[kMaxSweep]) {
+  using namespace sse_binning;
+  const char* p = static_cast<const char*>(prims);
+  __m128 lo[kMaxSweep], hi[kMaxSweep];
+  alignas(16) float c[kMaxSweep][4];
+  for (size_t i = 0; i < count; ++i) {
+    lo[i] = load_lo(p + i * stride);
+    hi[i] = load_hi(p + i * stride);
+    _mm_store_ps(c[i], _mm_mul_ps(_mm_add_ps(lo[i], hi[i]), _mm_set1_ps(0.5f)));
+  }
+  const __m128 inf = _mm_set1_ps(INFINITY), minus_inf = _mm_set1_ps(-INFINITY);
+  SahSplit best;
+  for (int a = 0; a < 3; ++a) {
+    uint32_t ord[kMaxSweep];
+    for (size_t i = 0; i < count; ++i) {  // insertion sort by centroid, stable
+      const float k = c[i][a];
+      size_t j = i;
+      for (; j > 0 && c[ord[j - 1]][a] > k; --j) ord[j] = ord[j - 1];
+      ord[j] = uint32_t(i);
+    }
+    float right_area[kMaxSweep];
+    __m128 l = inf, h = minus_inf;
+    for (size_t i = count - 1; i > 0; --i) {
+      l = _mm_min_ps(l, lo[ord[i]]);
+      h = _mm_max_ps(h, hi[ord[i]]);
+      right_area[i] = half_area(l, h);
+    }
+    l = inf;
+    h = minus_inf;
+    for (size_t i = 0; i + 1 < count; ++i) {  // left: ord[0 .. i]
+      l = _mm_min_ps(l, lo[ord[i]]);
+      h = _mm_max_ps(h, hi[ord[i]]);
+      const float cost = 2.0f * (half_area(l, h) * float(i + 1) + right_area[i + 1] * float(count - i - 1));
+      if (cost < best.cost) {
+        best.cost = cost;
+        best.axis = a;
+        best.bin = int(i);
+        std::copy(ord, ord + count, order);
+      }
+    }
+  }
+  if (best.axis >= 0) {
+    __m128 llo = inf, lhi = minus_inf, rlo = inf, rhi = minus_inf;
+    for (size_t i = 0; i < count; ++i) {
+      if (int(i) <= best.bin) {
+        llo = _mm_min_ps(llo, lo[order[i]]);
+        lhi = _mm_max_ps(lhi, hi[order[i]]);
+      } else {
+        rlo = _mm_min_ps(rlo, lo[order[i]]);
+        rhi = _mm_max_ps(rhi, hi[order[i]]);
+      }
+    }
+    best.left = to_box(llo, lhi);
+    best.right = to_box(rlo, rhi);
+  }
+  return best;
+}
+
 // Puts the primitives of bins [0, split.bin] along split.axis before the
 // others and returns how many there are; *lcbox and *rcbox receive the two
 // sides' centroid boxes. Prim is bvh_build.cpp's PrimInfo (any type of two
@@ -165,12 +231,14 @@ size_t sah_partition(Prim* prims, size_t count, const BBox& cbox, const Vec3& sc
   const BinMap map(cbox, scale, nb);
   const __m128 inf = _mm_set1_ps(INFINITY), minus_inf = _mm_set1_ps(-INFINITY);
   __m128 llo = inf, lhi = minus_inf, rlo = inf, rhi = minus_inf;
-  const int axis = split.axis, last_left = split.bin;
+  // Left when the bin along the split axis is at most split.bin: compared
+  // in the register (no store and reload of the three bin numbers).
+  const int axis_bit = 1 << split.axis;
+  const __m128i last_left = _mm_set1_epi32(split.bin);
   const auto side = [&](const Prim& p, __m128* c) {
     *c = map.centroid(&p);
-    alignas(16) int32_t b[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(b), map.bins(*c));
-    return b[axis] <= last_left;
+    const __m128i right = _mm_cmpgt_epi32(map.bins(*c), last_left);
+    return (_mm_movemask_ps(_mm_castsi128_ps(right)) & axis_bit) == 0;
   };
   size_t i = 0, j = count;
   for (;;) {

@@ -31,8 +31,6 @@ constexpr int kMedianDepth = 96;
 // Subtrees of fewer primitives than this are built on the calling thread:
 // below it a thread costs more than it saves.
 constexpr size_t kParallelMin = 8192;
-// Nodes of at most this many primitives get the exact SAH (a full sweep).
-constexpr size_t kSweepMax = 16;
 
 // What a finished subtree adds to the statistics. Summed bottom-up, so the
 // totals are the same whichever thread built which subtree.
@@ -59,58 +57,6 @@ struct Builder {
     *cbox = c;
   }
 
-  // The exact SAH over prims[begin, end) (at most kSweepMax of them): per
-  // axis, the primitives sorted by centroid and every split between them.
-  // `order` receives the best axis's order (indices from begin); the
-  // split's `bin` is the last primitive of the left side in that order.
-  SahSplit full_sweep(size_t begin, size_t end, uint32_t order[kSweepMax]) const {
-    const size_t n = end - begin;
-    SahSplit best;
-    for (int a = 0; a < 3; ++a) {
-      uint32_t ord[kSweepMax];
-      float key[kSweepMax];
-      for (size_t i = 0; i < n; ++i) {  // insertion sort, stable
-        const float k = prims[begin + i].centroid()[a];
-        size_t j = i;
-        for (; j > 0 && key[j - 1] > k; --j) {
-          key[j] = key[j - 1];
-          ord[j] = ord[j - 1];
-        }
-        key[j] = k;
-        ord[j] = uint32_t(i);
-      }
-      float right_area[kSweepMax];
-      BBox acc;
-      for (size_t i = n - 1; i > 0; --i) {
-        const PrimInfo& p = prims[begin + ord[i]];
-        acc.lo = vmin(acc.lo, p.lo);
-        acc.hi = vmax(acc.hi, p.hi);
-        right_area[i] = acc.surface_area();
-      }
-      acc = BBox();
-      for (size_t i = 0; i + 1 < n; ++i) {  // left: ord[0 .. i]
-        const PrimInfo& p = prims[begin + ord[i]];
-        acc.lo = vmin(acc.lo, p.lo);
-        acc.hi = vmax(acc.hi, p.hi);
-        const float cost = acc.surface_area() * float(i + 1) + right_area[i + 1] * float(n - i - 1);
-        if (cost < best.cost) {
-          best.cost = cost;
-          best.axis = a;
-          best.bin = int(i);
-          best.left = acc;
-          std::copy(ord, ord + n, order);
-        }
-      }
-    }
-    if (best.axis >= 0)
-      for (size_t i = size_t(best.bin) + 1; i < n; ++i) {
-        const PrimInfo& p = prims[begin + order[i]];
-        best.right.lo = vmin(best.right.lo, p.lo);
-        best.right.hi = vmax(best.right.hi, p.hi);
-      }
-    return best;
-  }
-
   SubtreeStats make_leaf(BVHNode& n, size_t begin, size_t end, const BBox& box) const {
     n.lo = box.lo;
     n.hi = box.hi;
@@ -132,7 +78,11 @@ struct Builder {
   SubtreeStats build(std::vector<BVHNode>& nodes, uint32_t index, size_t begin, size_t end, const BBox& box,
                      const BBox& cbox, int depth, int threads) const {
     const size_t count = end - begin;
-    if (count == 1) return make_leaf(nodes[index], begin, end, box);
+    // A leaf costs ceil(n / 4) tests (see the SAH test below) and any split
+    // at least C_trav: no need to price the splits of a node that small.
+    const float leaf_cost = float((count + 3) / 4);
+    if (count == 1 || (count <= size_t(opt.max_leaf_size) && leaf_cost <= opt.traversal_cost))
+      return make_leaf(nodes[index], begin, end, box);
 
     // The SAH: cost(split) = A_left N_left + A_right N_right. Near the
     // leaves every split between sorted centroids is tried (exact, and
@@ -143,20 +93,24 @@ struct Builder {
     const Vec3 cext = cbox.extent();
     Vec3 scale;
     for (int a = 0; a < 3; ++a) scale[a] = cext[a] > 0 ? float(nb) / cext[a] : 0.0f;
-    uint32_t sweep_order[kSweepMax];
-    const bool sweep = count <= kSweepMax;
-    const SahSplit split = sweep ? full_sweep(begin, end, sweep_order)
+    uint32_t sweep_order[kMaxSweep];
+    const bool sweep = count <= kMaxSweep;
+    const SahSplit split = sweep ? sah_sweep_split(&prims[begin], sizeof(PrimInfo), count, sweep_order)
                                  : sah_best_split(&prims[begin], sizeof(PrimInfo), count, cbox, scale, nb);
     const int best_axis = split.axis;
     const float best_cost = split.cost;
 
     // Leaves of at most max_leaf_size primitives are made when the SAH
-    // prices them below the best split: n * C_isect against
-    // C_trav + (A_left N_left + A_right N_right) / A * C_isect.
+    // prices them below the best split: C_leaf against
+    // C_trav + (A_left N_left + A_right N_right) / A * C_isect. The
+    // reference tests a leaf's triangles four at a time (bvh_wide.h), one
+    // packet costing about one test, so C_leaf = ceil(n / 4) * C_isect: a
+    // node of up to four primitives is always a leaf (full packets, fewer
+    // nodes: 5-10 % more rays per second than C_leaf = n * C_isect).
     if (count <= size_t(opt.max_leaf_size)) {
       const float area = box.surface_area();
       const float split_cost = opt.traversal_cost + (area > 0 ? best_cost / area : 0.0f);
-      if (best_axis < 0 || float(count) <= split_cost) return make_leaf(nodes[index], begin, end, box);
+      if (best_axis < 0 || leaf_cost <= split_cost) return make_leaf(nodes[index], begin, end, box);
     }
 
     // Partition at the best split, taking the children's centroid boxes on
@@ -164,7 +118,7 @@ struct Builder {
     size_t mid = begin;
     BBox lbox = split.left, rbox = split.right, lcbox, rcbox;
     if (sweep && best_axis >= 0) {
-      PrimInfo sorted[kSweepMax];
+      PrimInfo sorted[kMaxSweep];
       for (size_t i = 0; i < count; ++i) sorted[i] = prims[begin + sweep_order[i]];
       std::copy(sorted, sorted + count, prims.begin() + long(begin));
       mid = begin + size_t(split.bin) + 1;

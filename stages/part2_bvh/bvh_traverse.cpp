@@ -57,8 +57,8 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
   // STUB:   if (intersect_sphere(scene_.spheres[i], r, hit)) { found = true; if (hit) hit->primitive = int(num_triangles_ + i); }
   // STUB: }
   // STUB: return found;
-  if (!is_finite(r.o) || !is_finite(r.d)) return false;  // as brute force: such a ray hits nothing
   const WideRay wr(r);
+  if (!wr.finite) return false;  // as brute force: such a ray hits nothing
   const __m128 t_min = _mm_set1_ps(r.min_t);
   uint64_t tests = 0, visits = 0;
   uint32_t best_packet = 0;
@@ -174,8 +174,8 @@ bool BVH::occluded(const Ray& ray) const {
   // STUB: for (const Triangle& t : scene_.triangles) { ++stats.primitive_tests; if (intersect_triangle(t, r, nullptr)) return true; }
   // STUB: for (const Sphere& s : scene_.spheres) { ++stats.primitive_tests; if (intersect_sphere(s, r, nullptr)) return true; }
   // STUB: return false;
-  if (!is_finite(r.o) || !is_finite(r.d)) return false;
   const WideRay wr(r);
+  if (!wr.finite) return false;
   const __m128 t_min = _mm_set1_ps(r.min_t), t_max = _mm_set1_ps(r.max_t);
   uint64_t tests = 0, visits = 0;
   bool found = false;
@@ -185,18 +185,34 @@ bool BVH::occluded(const Ray& ray) const {
   for (;;) {
     ++visits;
     if (cur.count == 0) {
-      // Interior: go on to the first child hit, push the others (any hit
-      // will do, so there is no order worth sorting for).
+      // Interior: go on to the farthest child hit and push the others,
+      // nearest first (bvh_wide.h says why far first).
       const WideNode& n = wide_.nodes[cur.child];
       __m128 tn;
       int mask = wide_box_test(n, wr, t_min, t_max, &tn);
       if (mask != 0) {
+        alignas(16) float t[4];
+        _mm_store_ps(t, tn);
         const int c = lowest_bit(mask);
-        for (mask &= mask - 1; mask != 0; mask &= mask - 1) {
-          const int k = lowest_bit(mask);
-          stack[sp++] = {n.child[k], n.count[k], 0.0f};
+        mask &= mask - 1;
+        if (mask == 0) {
+          cur = {n.child[c], n.count[c], t[c]};
+          continue;
         }
-        cur = {n.child[c], n.count[c], 0.0f};
+        WideEntry* const base = stack + sp;
+        stack[sp++] = {n.child[c], n.count[c], t[c]};
+        for (; mask != 0; mask &= mask - 1) {
+          const int k = lowest_bit(mask);
+          // Insertion into [base, sp) sorted by increasing t.
+          WideEntry e{n.child[k], n.count[k], t[k]};
+          int j = sp++;
+          while (stack + j > base && stack[j - 1].t > e.t) {
+            stack[j] = stack[j - 1];
+            --j;
+          }
+          stack[j] = e;
+        }
+        cur = stack[--sp];
         continue;
       }
     } else {

@@ -21,7 +21,11 @@
 //    them.
 //  - Closest hit: the children a ray enters are pushed farthest first, so the
 //    nearest is visited next; an entry popped beyond the nearest hit so far is
-//    dropped. Any hit: no sorting, the first hit ends the query.
+//    dropped. Any hit: the other way round, farthest first (toward the light,
+//    for a shadow ray), and the first hit ends the query. In the closed
+//    Cornell boxes far first visits 6 % fewer nodes on shadow rays and 25 %
+//    fewer on bounce rays than child order, and near first 10-25 % more:
+//    a ray that is blocked usually is so by the surface it ends on.
 // The counters keep their definitions: one node visit per wide node or leaf
 // taken up, one primitive test per primitive of a leaf tested (empty lanes
 // are not counted).
@@ -184,21 +188,40 @@ struct WideBVH {
 
 // A ray prepared for the wide traversal: origin, reciprocal direction and
 // direction broadcast to four lanes, and which row of a node's bounds is the
-// near plane of each axis (lo when the direction is positive, else hi).
+// near plane of each axis (lo when the direction is positive, else hi). All
+// computed for the three axes at once: a query's fixed cost matters, as two
+// camera rays in three leave a Cornell box at its first node.
 struct WideRay {
   __m128 o[3], inv[3], d[3];
   int near_row[3], far_row[3];
+  bool finite;  // origin and direction finite (a ray that is not hits nothing, as with brute force)
   explicit WideRay(const Ray& r) {
+    const __m128 ov = _mm_setr_ps(r.o.x, r.o.y, r.o.z, 0.0f);
+    const __m128 dv = _mm_setr_ps(r.d.x, r.d.y, r.d.z, 1.0f);
+    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 inf = _mm_set1_ps(INFINITY);
+    const __m128 abs_d = _mm_and_ps(dv, abs_mask);
+    finite = _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(_mm_and_ps(ov, abs_mask), inf), _mm_cmplt_ps(abs_d, inf))) == 0xf;
+    // Components of (almost) zero become +-1e-18, as Embree does: the
+    // reciprocal stays finite, so (plane - o) * inv is never 0 * inf.
+    const __m128 tiny = _mm_cmplt_ps(abs_d, _mm_set1_ps(1e-18f));
+    const __m128 clamped = _mm_or_ps(_mm_andnot_ps(abs_mask, dv), _mm_set1_ps(1e-18f));
+    const __m128 safe_d = _mm_or_ps(_mm_andnot_ps(tiny, dv), _mm_and_ps(tiny, clamped));
+    const __m128 iv = _mm_div_ps(_mm_set1_ps(1.0f), safe_d);
+    o[0] = _mm_shuffle_ps(ov, ov, 0x00);
+    o[1] = _mm_shuffle_ps(ov, ov, 0x55);
+    o[2] = _mm_shuffle_ps(ov, ov, 0xaa);
+    d[0] = _mm_shuffle_ps(dv, dv, 0x00);
+    d[1] = _mm_shuffle_ps(dv, dv, 0x55);
+    d[2] = _mm_shuffle_ps(dv, dv, 0xaa);
+    inv[0] = _mm_shuffle_ps(iv, iv, 0x00);
+    inv[1] = _mm_shuffle_ps(iv, iv, 0x55);
+    inv[2] = _mm_shuffle_ps(iv, iv, 0xaa);
+    const int negative = _mm_movemask_ps(iv);
     for (int a = 0; a < 3; ++a) {
-      // Components of (almost) zero become +-1e-18, as Embree does: the
-      // reciprocal stays finite, so (plane - o) * inv is never 0 * inf.
-      const float da = r.d[a];
-      const float inv_a = 1.0f / (std::fabs(da) < 1e-18f ? std::copysign(1e-18f, da) : da);
-      o[a] = _mm_set1_ps(r.o[a]);
-      inv[a] = _mm_set1_ps(inv_a);
-      d[a] = _mm_set1_ps(da);
-      near_row[a] = 2 * a + (inv_a < 0 ? 1 : 0);
-      far_row[a] = 2 * a + (inv_a < 0 ? 0 : 1);
+      const int neg = (negative >> a) & 1;
+      near_row[a] = 2 * a + neg;
+      far_row[a] = 2 * a + 1 - neg;
     }
   }
 };

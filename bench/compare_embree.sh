@@ -4,7 +4,7 @@
 # sets (primary, diffuse, shadow), embree_bench and ray_bench both trace them
 # on one thread, and one Markdown table of the medians is printed.
 #
-#   bench/compare_embree.sh [--runs N] [--reps R] [--rays N] [SCENE.dae ...]
+#   bench/compare_embree.sh [--runs N] [--reps R] [--rays N] [--clock wall|cpu] [SCENE.dae ...]
 #
 # Each binary is run N times (default 3) per scene and ray set; each run
 # reports the best of R passes (default 5); the table shows the median of
@@ -12,6 +12,12 @@
 # two engines: otherwise the check column says MISMATCH and the exit status
 # is 1. Progress goes to stderr, the report (Markdown) to stdout. Files go
 # to build/bench-out/ (PT_BUILD_DIR=DIR uses another build folder).
+# --clock cpu times both engines by the calling thread's CPU time instead of
+# the wall clock (embree_bench is then compiled from a copy of its source
+# with that one change, as build/embree_bench_cpu): on a machine shared with
+# other jobs the wall clock counts the time spent waiting for a core, the
+# CPU time does not. Both builds run on one thread, so their CPU time is
+# their time.
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -20,17 +26,20 @@ cd "$root"
 runs=3
 reps=5
 rays=200000
+clock=wall
 scenes=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --runs) runs=${2:?--runs needs a value}; shift 2 ;;
     --reps) reps=${2:?--reps needs a value}; shift 2 ;;
     --rays) rays=${2:?--rays needs a value}; shift 2 ;;
-    -h|--help) sed -n '2,14p' "$root/bench/compare_embree.sh" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --clock) clock=${2:?--clock needs a value}; shift 2 ;;
+    -h|--help) sed -n '2,20p' "$root/bench/compare_embree.sh" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "compare_embree.sh: error: unknown option $1" >&2; exit 2 ;;
     *) scenes+=("$1"); shift ;;
   esac
 done
+case "$clock" in wall|cpu) ;; *) echo "compare_embree.sh: error: --clock takes wall or cpu, got '$clock'" >&2; exit 2 ;; esac
 for v in "$runs" "$reps" "$rays"; do
   case "$v" in ''|*[!0-9]*|0) echo "compare_embree.sh: error: --runs, --reps and --rays take positive integers, got '$v'" >&2; exit 2 ;; esac
 done
@@ -59,6 +68,25 @@ embree=$bdir/embree_bench
 bench=$bdir/bin/ray_bench
 echo "building $embree ..." >&2
 ../shared/bench/build.sh "$embree" >&2
+if [ "$clock" = cpu ]; then
+  # The same source with its steady_clock replaced by this thread's CPU time.
+  mkdir -p "$bdir/bench-out"
+  python3 - ../shared/bench/embree_bench.cpp "$bdir/bench-out/embree_bench_cpu.cpp" <<'PY'
+import sys
+s = open(sys.argv[1]).read()
+old_clock = "using Clock = std::chrono::steady_clock;"
+old_seconds = "static double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }"
+if old_clock not in s or old_seconds not in s:
+    sys.exit("compare_embree.sh: error: embree_bench.cpp no longer has the clock lines --clock cpu replaces")
+s = s.replace(old_clock, "#include <ctime>\nstruct Clock { using time_point = double; static double now() { timespec ts; "
+              "clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts); return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec); } };")
+s = s.replace(old_seconds, "static double seconds(double a, double b) { return b - a; }")
+open(sys.argv[2], "w").write(s)
+PY
+  embree=${embree}_cpu
+  g++ -O3 -march=native -std=c++17 "$bdir/bench-out/embree_bench_cpu.cpp" -lembree3 -o "$embree" >&2
+  echo "$embree (CPU-time clock)" >&2
+fi
 echo "building $bench ..." >&2
 [ -f "$bdir/CMakeCache.txt" ] || cmake -S . -B "$bdir" >&2
 cmake --build "$bdir" -j2 --target ray_bench >&2
@@ -86,8 +114,8 @@ for scene in "${scenes[@]}"; do
   echo "$scene:" >&2
   for run in $(seq 1 "$runs"); do
     echo "  run $run/$runs: ray_bench" >&2
-    log_once "$run" "$bench" "$scene" --out "$out" --rays "$rays" --reps "$reps"
-    "$bench" "$scene" --out "$out" --rays "$rays" --reps "$reps" >"$results/$key/ours.$run.txt"
+    log_once "$run" "$bench" "$scene" --out "$out" --rays "$rays" --reps "$reps" --clock "$clock"
+    "$bench" "$scene" --out "$out" --rays "$rays" --reps "$reps" --clock "$clock" >"$results/$key/ours.$run.txt"
     for set in primary diffuse shadow; do
       # Skip empty sets (no lights: no shadow rays). Bytes 8-15 hold the count.
       n=$(od -An -t u8 -j 8 -N 8 "$out/$set.rays" | tr -d ' ')
@@ -116,6 +144,8 @@ echo "- machine: ${model:-unknown} ($cpus logical CPUs)"
 echo "- compiler: $compiler; project build: ${build_type:-?}, PT_NATIVE=${native:-OFF}; embree_bench: -O3 -march=native"
 echo "- source: commit $commit${dirty:+ plus uncommitted changes}"
 echo "- each figure: median of $runs runs of the best of $reps passes; $rays primary rays per scene"
+echo "- clock: $([ "$clock" = cpu ] && echo "the calling thread's CPU time (--clock cpu)" || echo "wall clock (steady_clock)")"
+echo "- load average at the end: $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?') on $(nproc 2>/dev/null || echo '?') CPUs"
 echo
 status=0
 python3 - "$results" "$runs" <<'PY' || status=$?
@@ -224,7 +254,8 @@ echo
 echo "Commands (from $root; run $runs times each):"
 echo
 echo '```'
-echo "../shared/bench/build.sh $embree"
+echo "../shared/bench/build.sh ${embree%_cpu}"
+[ "$clock" = cpu ] && echo "(and $embree: embree_bench.cpp with the CPU-time clock, see --clock in this script)"
 echo "cmake --build $bdir -j2 --target ray_bench"
 cat "$cmdlog"
 echo '```'

@@ -174,14 +174,17 @@ bool BVH::occluded(const Ray& ray) const {
   // STUB: for (const Triangle& t : scene_.triangles) { ++stats.primitive_tests; if (intersect_triangle(t, r, nullptr)) return true; }
   // STUB: for (const Sphere& s : scene_.spheres) { ++stats.primitive_tests; if (intersect_sphere(s, r, nullptr)) return true; }
   // STUB: return false;
-  const WideRay wr(r);
+  // Read from `ray`, not from its copy `r`, which is then never made: it is
+  // copied 16 bytes at a time (see WideRay for why that stalls).
+  (void)r;
+  const WideRay wr(ray);
   if (!wr.finite) return false;
-  const __m128 t_min = _mm_set1_ps(r.min_t), t_max = _mm_set1_ps(r.max_t);
+  const __m128 t_min = _mm_set1_ps(ray.min_t), t_max = _mm_set1_ps(ray.max_t);
   uint64_t tests = 0, visits = 0;
   bool found = false;
   WideEntry stack[kStackSize];
   int sp = 0;
-  WideEntry cur{0, wide_.root_count, r.min_t};
+  WideEntry cur{0, wide_.root_count, ray.min_t};
   for (;;) {
     ++visits;
     if (cur.count == 0) {
@@ -225,8 +228,10 @@ bool BVH::occluded(const Ray& ray) const {
         if (wide_.has_spheres) {
           for (int lane = 0; lane < 4 && !found; ++lane) {
             const uint32_t id = wide_.ids[4 * size_t(pi) + size_t(lane)];
-            found = id >= num_triangles_ && id != WideBVH::kNoPrimitive &&
-                    intersect_sphere(scene_.spheres[id - num_triangles_], r, nullptr);
+            if (id >= num_triangles_ && id != WideBVH::kNoPrimitive) {
+              Ray rs = ray;  // intersect_sphere shortens the ray it is given
+              found = intersect_sphere(scene_.spheres[id - num_triangles_], rs, nullptr);
+            }
           }
         }
       }

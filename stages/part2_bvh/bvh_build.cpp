@@ -78,11 +78,7 @@ struct Builder {
   SubtreeStats build(std::vector<BVHNode>& nodes, uint32_t index, size_t begin, size_t end, const BBox& box,
                      const BBox& cbox, int depth, int threads) const {
     const size_t count = end - begin;
-    // A leaf costs ceil(n / 4) tests (see the SAH test below) and any split
-    // at least C_trav: no need to price the splits of a node that small.
-    const float leaf_cost = float((count + 3) / 4);
-    if (count == 1 || (count <= size_t(opt.max_leaf_size) && leaf_cost <= opt.traversal_cost))
-      return make_leaf(nodes[index], begin, end, box);
+    if (count == 1) return make_leaf(nodes[index], begin, end, box);
 
     // The SAH: cost(split) = A_left N_left + A_right N_right. Near the
     // leaves every split between sorted centroids is tried (exact, and
@@ -101,16 +97,18 @@ struct Builder {
     const float best_cost = split.cost;
 
     // Leaves of at most max_leaf_size primitives are made when the SAH
-    // prices them below the best split: C_leaf against
-    // C_trav + (A_left N_left + A_right N_right) / A * C_isect. The
-    // reference tests a leaf's triangles four at a time (bvh_wide.h), one
-    // packet costing about one test, so C_leaf = ceil(n / 4) * C_isect: a
-    // node of up to four primitives is always a leaf (full packets, fewer
-    // nodes: 5-10 % more rays per second than C_leaf = n * C_isect).
+    // prices them below the best split: n * C_isect against
+    // C_trav + (A_left N_left + A_right N_right) / A * C_isect.
+    // (The reference tests a leaf's triangles four at a time, so leaves of
+    // four, C_leaf = ceil(n / 4), would trace 5-10 % faster; but the grader
+    // judges a student's primitive tests per query against the reference's,
+    // 8x + 4 at most, and with leaves of four the reference's counts on the
+    // small scenes rose until a linear shadow scan fit under that limit.
+    // The counts stay those of the tree a student builds.)
     if (count <= size_t(opt.max_leaf_size)) {
       const float area = box.surface_area();
       const float split_cost = opt.traversal_cost + (area > 0 ? best_cost / area : 0.0f);
-      if (best_axis < 0 || leaf_cost <= split_cost) return make_leaf(nodes[index], begin, end, box);
+      if (best_axis < 0 || float(count) <= split_cost) return make_leaf(nodes[index], begin, end, box);
     }
 
     // Partition at the best split, taking the children's centroid boxes on

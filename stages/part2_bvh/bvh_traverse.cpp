@@ -34,9 +34,6 @@ inline int lowest_bit(int mask) { return __builtin_ctz(unsigned(mask)); }
 // bvh_build.cpp), and a wide node pushes at most three children.
 constexpr int kStackSize = 3 * 128 + 4;
 
-// Lanes of a packet that hold primitives (the last packet of a leaf may be
-// partly empty).
-inline uint32_t lanes_in(uint32_t count, uint32_t k) { return std::min<uint32_t>(4, count - 4 * k); }
 // END SOLUTION
 
 }  // namespace
@@ -105,12 +102,13 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
       }
     } else {
       // Leaf: its packets, nearest hit kept.
-      const uint32_t packets = (cur.count + 3) / 4;
-      for (uint32_t k = 0; k < packets; ++k) {
-        const uint32_t pi = cur.child + k;
-        tests += lanes_in(cur.count, k);
+      LeafLanes leaf(cur.count);
+      uint32_t lanes;
+      int lane_mask;
+      for (uint32_t pi = cur.child; leaf.next(&lanes, &lane_mask); ++pi) {
+        tests += lanes;
         __m128 tv, b1v, b2v;
-        const int mask = packet_test(wide_.packets[pi], wr, t_min, _mm_set1_ps(r.max_t), &tv, &b1v, &b2v);
+        const int mask = packet_test(wide_.packets[pi], wr, t_min, _mm_set1_ps(r.max_t), &tv, &b1v, &b2v) & lane_mask;
         if (mask != 0) {
           alignas(16) float t[4], b1[4], b2[4];
           _mm_store_ps(t, tv);
@@ -127,7 +125,7 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
         if (wide_.has_spheres) {
           for (int lane = 0; lane < 4; ++lane) {
             const uint32_t id = wide_.ids[4 * size_t(pi) + size_t(lane)];
-            if (id >= num_triangles_ && id != WideBVH::kNoPrimitive &&
+            if ((lane_mask >> lane & 1) && id >= num_triangles_ &&
                 intersect_sphere(scene_.spheres[id - num_triangles_], r, &sphere_hit)) {
               best_packet = pi;
               best_lane = lane;
@@ -219,16 +217,17 @@ bool BVH::occluded(const Ray& ray) const {
         continue;
       }
     } else {
-      const uint32_t packets = (cur.count + 3) / 4;
-      for (uint32_t k = 0; k < packets && !found; ++k) {
-        const uint32_t pi = cur.child + k;
-        tests += lanes_in(cur.count, k);
+      LeafLanes leaf(cur.count);
+      uint32_t lanes;
+      int lane_mask;
+      for (uint32_t pi = cur.child; !found && leaf.next(&lanes, &lane_mask); ++pi) {
+        tests += lanes;
         __m128 tv, b1v, b2v;
-        found = packet_test(wide_.packets[pi], wr, t_min, t_max, &tv, &b1v, &b2v) != 0;
+        found = (packet_test(wide_.packets[pi], wr, t_min, t_max, &tv, &b1v, &b2v) & lane_mask) != 0;
         if (wide_.has_spheres) {
           for (int lane = 0; lane < 4 && !found; ++lane) {
             const uint32_t id = wide_.ids[4 * size_t(pi) + size_t(lane)];
-            if (id >= num_triangles_ && id != WideBVH::kNoPrimitive) {
+            if ((lane_mask >> lane & 1) && id >= num_triangles_) {
               Ray rs = ray;  // intersect_sphere shortens the ray it is given
               found = intersect_sphere(scene_.spheres[id - num_triangles_], rs, nullptr);
             }

@@ -14,7 +14,11 @@
 //  - Triangle packets: a leaf's triangles (at most four by default) in SoA
 //    (p1.x of all four, then p1.y, ...), tested with one SSE Moller-Trumbore,
 //    the same arithmetic in the same order as the scalar test, so every t
-//    and barycentric is bit for bit the scalar one.
+//    and barycentric is bit for bit the scalar one. The SAH makes many
+//    leaves of one or two triangles; sibling leaves (children of one wide
+//    node) share a packet when they fit, each testing only its own lanes,
+//    so the tests and counts are those of separate leaves but the packets
+//    are full and side by side in memory (fewer cache lines per ray).
 //  - No virtual call, no per-primitive branch: a packet's empty lanes and its
 //    sphere lanes hold zero edges, whose determinant 0 rejects them; spheres
 //    (rare) are tested one by one after the packet, only in scenes that have
@@ -52,10 +56,31 @@ struct alignas(64) WideNode {
   // Rows: lo.x, hi.x, lo.y, hi.y, lo.z, hi.z; column c is child c. An unused
   // slot holds the empty box (lo = +inf, hi = -inf), which no ray enters.
   float bounds[6][4];
-  // Interior child: count 0 and child = its node index. Leaf: count = its
-  // number of primitives (>= 1) and child = its first packet.
+  // Interior child: count 0 and child = its node index. Leaf: child = its
+  // first packet, count = its number of primitives (>= 1) in the low 24
+  // bits and, in the top 8, the lane of that packet where it starts (small
+  // sibling leaves share a packet, see WideBVH::collapse).
   uint32_t child[4];
   uint32_t count[4];
+};
+
+constexpr uint32_t kLeafCountMask = 0xffffff;
+constexpr int kLeafLaneShift = 24;
+
+// The lanes of a leaf's packets, one packet at a time: `lanes` of them from
+// `first` on (a bit mask in `mask`).
+struct LeafLanes {
+  uint32_t left, first;
+  explicit LeafLanes(uint32_t count) : left(count & kLeafCountMask), first(count >> kLeafLaneShift) {}
+  // The next packet's lanes; false when the leaf has no more.
+  bool next(uint32_t* lanes, int* mask) {
+    if (left == 0) return false;
+    *lanes = std::min<uint32_t>(4 - first, left);
+    *mask = int(((1u << *lanes) - 1) << first);
+    left -= *lanes;
+    first = 0;
+    return true;
+  }
 };
 static_assert(sizeof(WideNode) == 128, "WideNode must be two cache lines");
 
@@ -79,7 +104,7 @@ struct WideBVH {
   std::vector<WideNode> nodes;             // nodes[0] is the root (unless the tree is one leaf)
   std::vector<TrianglePacket> packets;     // leaf order
   std::vector<uint32_t> ids;               // 4 per packet: primitive id, or kNoPrimitive
-  uint32_t root_count = 0;                 // 0: the root is nodes[0]; else the tree is one leaf of this many
+  uint32_t root_count = 0;                 // 0: the root is nodes[0]; else the tree is one leaf (count as in WideNode)
   uint32_t num_triangles = 0;
   bool has_spheres = false;
   static constexpr uint32_t kNoPrimitive = 0xffffffffu;
@@ -103,30 +128,48 @@ struct WideBVH {
     nodes.reserve(bin.size() / 3 + 1);
     packets.reserve(leaf_ids.size() / 2 + 1);
     ids.reserve(leaf_ids.size() * 2 + 4);
-    const auto pack_leaf = [&](const Node& leaf) {
-      const uint32_t first = uint32_t(packets.size());
-      for (uint32_t k = 0; k < leaf.count; k += 4) {
-        TrianglePacket pk{};
-        for (uint32_t lane = 0; lane < 4; ++lane) {
-          const uint32_t i = leaf.first + k + lane;
-          const uint32_t id = k + lane < leaf.count ? leaf_ids[i] : kNoPrimitive;
-          ids.push_back(id);
-          if (id >= num_triangles) continue;  // empty or sphere lane: zero edges
-          const Triangle& t = triangles[id];
-          const Vec3 e1 = t.p2 - t.p1, e2 = t.p3 - t.p1;
-          for (int a = 0; a < 3; ++a) {
-            pk.p[a][lane] = t.p1[a];
-            pk.e1[a][lane] = e1[a];
-            pk.e2[a][lane] = e2[a];
-          }
-        }
-        packets.push_back(pk);
+    // Packs a leaf's primitives into packets: from lane `lane` of packet
+    // `packet` on (a packet that has room), or into new packets.
+    const auto new_packet = [&]() {
+      packets.emplace_back();
+      for (int lane = 0; lane < 4; ++lane) ids.push_back(kNoPrimitive);
+      return uint32_t(packets.size() - 1);
+    };
+    const auto put = [&](uint32_t packet, uint32_t lane, uint32_t id) {
+      ids[4 * size_t(packet) + lane] = id;
+      if (id >= num_triangles) return;  // sphere lane: zero edges
+      const Triangle& t = triangles[id];
+      const Vec3 e1 = t.p2 - t.p1, e2 = t.p3 - t.p1;
+      TrianglePacket& pk = packets[packet];
+      for (int a = 0; a < 3; ++a) {
+        pk.p[a][lane] = t.p1[a];
+        pk.e1[a][lane] = e1[a];
+        pk.e2[a][lane] = e2[a];
       }
+    };
+    // Returns the leaf's (child, count) as WideNode stores them.
+    uint32_t open_packet = 0, open_used = 4;  // the packet with room, and its lanes in use
+    const auto pack_leaf = [&](const Node& leaf, uint32_t* count) {
+      if (leaf.count <= 4) {  // one packet, shared with siblings when it fits
+        if (open_used + leaf.count > 4) {
+          open_packet = new_packet();
+          open_used = 0;
+        }
+        for (uint32_t k = 0; k < leaf.count; ++k) put(open_packet, open_used + k, leaf_ids[leaf.first + k]);
+        *count = leaf.count | (open_used << kLeafLaneShift);
+        open_used += leaf.count;
+        return open_packet;
+      }
+      const uint32_t first = uint32_t(packets.size());
+      for (uint32_t k = 0; k < leaf.count; ++k) {
+        if (k % 4 == 0) new_packet();
+        put(first + k / 4, k % 4, leaf_ids[leaf.first + k]);
+      }
+      *count = leaf.count;
       return first;
     };
     if (bin[0].is_leaf()) {
-      pack_leaf(bin[0]);
-      root_count = bin[0].count;
+      pack_leaf(bin[0], &root_count);
       return;
     }
     // Depth first: a node's index is taken before its subtrees are made.
@@ -166,14 +209,13 @@ struct WideBVH {
         out.child[c] = 0;
         out.count[c] = 0;
       }
-      // Leaves first, in child order, then the interior children (pushed so
-      // that the first is made first).
+      // Leaves first, in child order (sharing packets among themselves, not
+      // with another node's), then the interior children (pushed so that
+      // the first is made first).
+      open_used = 4;
       for (int c = 0; c < n; ++c) {
         const Node& k = bin[kids[c]];
-        if (k.is_leaf()) {
-          out.child[c] = pack_leaf(k);
-          out.count[c] = k.count;
-        }
+        if (k.is_leaf()) out.child[c] = pack_leaf(k, &out.count[c]);
       }
       for (int c = n - 1; c >= 0; --c) {
         if (bin[kids[c]].is_leaf()) continue;

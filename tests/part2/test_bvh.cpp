@@ -113,15 +113,16 @@ void check_reference_layout(const Scene& scene, const BVH& bvh, int max_leaf) {
   std::function<void(uint32_t, uint32_t, const BBox&)> visit_wide = [&](uint32_t child, uint32_t count,
                                                                         const BBox& box) {
     if (count > 0) {
-      for (uint32_t k = 0; k < count; ++k) {
-        const size_t slot = 4 * size_t(child) + k;
+      const uint32_t first_lane = count >> kLeafLaneShift, prims = count & kLeafCountMask;
+      CHECK((prims <= 4 ? first_lane + prims <= 4 : first_lane == 0));
+      for (uint32_t k = 0; k < prims; ++k) {
+        const size_t slot = 4 * size_t(child) + first_lane + k;
         REQUIRE(slot < w.ids.size());
         const uint32_t id = w.ids[slot];
         REQUIRE(id < n);
         ++in_lane[id];
         CHECK(box_contains(box, prim_box(id)));
       }
-      for (uint32_t k = count; k % 4 != 0; ++k) CHECK(w.ids[4 * size_t(child) + k] == WideBVH::kNoPrimitive);
       return;
     }
     REQUIRE(child < w.nodes.size());
@@ -145,6 +146,11 @@ void check_reference_layout(const Scene& scene, const BVH& bvh, int max_leaf) {
     INFO("primitive " << id << " in the wide tree");
     CHECK(in_lane[id] == 1);
   }
+  // Every lane holding a primitive belongs to exactly one leaf (checked
+  // above); the others are empty.
+  size_t used_lanes = 0;
+  for (const uint32_t id : w.ids) used_lanes += id != WideBVH::kNoPrimitive;
+  CHECK(used_lanes == n);
 }
 // END SOLUTION
 

@@ -17,6 +17,10 @@ namespace pt {
 namespace {
 
 // BEGIN SOLUTION
+// The reference traverses the 4-wide tree that BVH::build collapses from
+// its binary SAH tree (bvh_wide.h says what each piece is and why it pays);
+// the counters keep their definitions (bvh_wide.h).
+
 // The lane of the nearest hit among `mask`; on a tie the last such lane, as
 // testing the lanes one by one with r.max_t shortened at each hit would pick.
 inline int nearest_lane(int mask, const float t[4]) {

@@ -1,36 +1,38 @@
 // Part 2: the bounding volume hierarchy.
 //
-// Layout (why it is fast): one flat array of 32-byte nodes; the two children
-// of a node are adjacent and start at an even index, so a sibling pair is
-// one 64-byte cache line. Primitives are reordered into leaf order and
-// triangles are stored as (p1, e1, e2), 36 bytes, so a leaf's triangles are
-// contiguous. Traversal visits the nearer child first with an explicit
-// stack and skips nodes that start beyond the current hit; shadow rays use
-// a separate early-exit query. Triangles and spheres share the tree; a leaf
-// entry's id says which one it is (no virtual call per primitive).
+// What the rest of the renderer sees is the interface: the constructor
+// builds, intersect() and occluded() answer, bounds() and build_stats()
+// describe the tree. How the tree is stored is yours: the members below are
+// a suggestion (a flat array of 32-byte nodes, primitives reordered into
+// leaf order, triangles stored as a point and two edges), and you may change
+// BVHNode and the private members as you like.
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "intersector.h"
 #include "scene.h"
+// BEGIN SOLUTION
+#include "bvh_wide.h"
+// END SOLUTION
 
 namespace pt {
 
+// A suggested node: its box, and either its children or its primitives.
 struct BVHNode {
   Vec3 lo;
-  uint32_t first = 0;  // interior: index of the left child (right = first + 1); leaf: first entry
+  uint32_t first = 0;  // interior: index of the left child (right = first + 1); leaf: first entry of prim_ids_
   Vec3 hi;
   uint32_t count = 0;  // 0 for an interior node, else the number of primitives in the leaf
 
   bool is_leaf() const { return count != 0; }
 };
-static_assert(sizeof(BVHNode) == 32, "BVHNode must be 32 bytes");
 
 struct BVHOptions {
   int max_leaf_size = 4;  // leaves hold at most this many primitives
   int bins = 12;          // SAH bins per axis
   float traversal_cost = 1.0f;  // SAH: cost of visiting a node relative to one primitive test
+  int build_threads = 0;  // threads the build may use; 0: all the machine's (a builder may ignore it)
 };
 
 struct BVHBuildStats {
@@ -53,22 +55,33 @@ class BVH final : public Intersector {
   bool intersect(Ray& r, Hit* hit) const override;
   bool occluded(const Ray& r) const override;
 
+  // What the build made: nodes, leaves, depth, SAH cost, build time.
   const BVHBuildStats& build_stats() const { return stats_; }
+  // The box of the whole scene (empty for an empty scene).
+  BBox bounds() const { return nodes_.empty() ? BBox() : BBox(nodes_[0].lo, nodes_[0].hi); }
+  // BEGIN SOLUTION
+  // The reference's own layout, for its layout tests (tests/part2): the
+  // binary tree, the primitives in its leaf order, and the 4-wide tree.
   const std::vector<BVHNode>& nodes() const { return nodes_; }
-  // Primitive ids in leaf order: id < num_triangles is a triangle, else a
-  // sphere (id - num_triangles). A leaf holds entries [first, first + count).
   const std::vector<uint32_t>& leaf_primitives() const { return prim_ids_; }
-  const BBox bounds() const { return nodes_.empty() ? BBox() : BBox(nodes_[0].lo, nodes_[0].hi); }
+  const WideBVH& wide() const { return wide_; }
+  // END SOLUTION
 
  private:
   void build(const BVHOptions& options);
 
   const Scene& scene_;
   uint32_t num_triangles_ = 0;
-  std::vector<BVHNode> nodes_;         // nodes_[0] is the root; nodes_[1] is unused padding
-  std::vector<uint32_t> prim_ids_;     // leaf order
-  std::vector<PackedTriangle> tris_;   // leaf order, parallel to prim_ids_ (unused for spheres)
+  // Suggested layout: nodes_[0] is the root. prim_ids_ holds primitive ids
+  // in leaf order (id < num_triangles_: a triangle, else the sphere
+  // id - num_triangles_), and tris_ the triangles in the same order.
+  std::vector<BVHNode> nodes_;
+  std::vector<uint32_t> prim_ids_;
+  std::vector<PackedTriangle> tris_;
   BVHBuildStats stats_;
+  // BEGIN SOLUTION
+  WideBVH wide_;  // the reference's fast path: the tree above, collapsed 4-wide (bvh_wide.h)
+  // END SOLUTION
 };
 
 }  // namespace pt

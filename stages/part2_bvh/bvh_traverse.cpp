@@ -1,11 +1,12 @@
 // Part 2, task 3: closest-hit and occlusion queries through the BVH.
+#include <algorithm>
 #include <cmath>
 
 #include "brute_force.h"
 #include "bvh.h"
 #include "slab_test.h"
 // BEGIN SOLUTION
-#include "slab_test_pair.h"
+#include "bvh_wide.h"
 // END SOLUTION
 #include "sphere.h"
 #include "stats.h"
@@ -17,28 +18,27 @@ namespace pt {
 namespace {
 
 // BEGIN SOLUTION
-// Moller-Trumbore on a packed triangle; the same arithmetic as
-// intersect_triangle, so both report the same t and barycentrics.
-inline bool hit_packed(const PackedTriangle& tri, const Ray& r, float* t_out, float* b1_out, float* b2_out) {
-  const Vec3 s1 = cross(r.d, tri.e2);
-  const float det = dot(s1, tri.e1);
-  if (det == 0.0f || !std::isfinite(det)) return false;
-  const float inv = 1.0f / det;
-  const Vec3 s = r.o - tri.p1;
-  const float b1 = dot(s1, s) * inv;
-  if (b1 < 0.0f || b1 > 1.0f) return false;
-  const Vec3 s2 = cross(s, tri.e1);
-  const float b2 = dot(s2, r.d) * inv;
-  if (b2 < 0.0f || b1 + b2 > 1.0f) return false;
-  const float t = dot(s2, tri.e2) * inv;
-  if (!(t >= r.min_t && t <= r.max_t)) return false;
-  *t_out = t;
-  *b1_out = b1;
-  *b2_out = b2;
-  return true;
+// The reference traverses the 4-wide tree that BVH::build collapses from
+// its binary SAH tree (bvh_wide.h says what each piece is and why it pays);
+// the counters keep their definitions (bvh_wide.h).
+
+// The lane of the nearest hit among `mask`; on a tie the last such lane, as
+// testing the lanes one by one with r.max_t shortened at each hit would pick.
+inline int nearest_lane(int mask, const float t[4]) {
+  int best = __builtin_ctz(unsigned(mask));
+  for (mask &= mask - 1; mask != 0; mask &= mask - 1) {
+    const int lane = __builtin_ctz(unsigned(mask));
+    if (t[lane] <= t[best]) best = lane;
+  }
+  return best;
 }
 
-constexpr int kStackSize = 128;  // the builder keeps the tree shallower than this
+inline int lowest_bit(int mask) { return __builtin_ctz(unsigned(mask)); }
+
+// The wide tree is at most as deep as the binary one (under 128 levels, see
+// bvh_build.cpp), and a wide node pushes at most three children.
+constexpr int kStackSize = 3 * 128 + 4;
+
 // END SOLUTION
 
 }  // namespace
@@ -50,75 +50,101 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
   // BEGIN SOLUTION
   // STUB: PT_TODO_AS(2, "BVH::intersect", "testing every primitive");
   // STUB: return intersect_every_primitive(scene_, r, hit);
-  const PairRay pray(r);
+  const WideRay wr(r);
+  if (!wr.finite) return false;  // as brute force: such a ray hits nothing
+  const __m128 t_min = _mm_set1_ps(r.min_t);
   uint64_t tests = 0, visits = 0;
-  int best = -1;  // leaf-order index of the nearest primitive so far
+  uint32_t best_packet = 0;
+  int best_lane = -1;  // lane of the nearest hit so far in wide_.packets[best_packet]
+  bool best_is_sphere = false;
   float best_b1 = 0, best_b2 = 0;
   Hit sphere_hit;
 
-  struct Entry {
-    uint32_t node;
-    float t_enter;
-  };
-  Entry stack[kStackSize];
+  WideEntry stack[kStackSize];
   int sp = 0;
-  float t_root;
-  if (slab_test(nodes_[0].lo, nodes_[0].hi, r.o, pray.inv, r.min_t, r.max_t, &t_root)) stack[sp++] = {0, t_root};
-
-  while (sp > 0) {
-    const Entry e = stack[--sp];
-    // Nothing in a box entered at or beyond the nearest hit found since it
-    // was pushed can be strictly nearer.
-    if (e.t_enter >= r.max_t) continue;
-    uint32_t ni = e.node;
-    for (;;) {
-      ++visits;
-      const BVHNode& n = nodes_[ni];
-      if (n.is_leaf()) {
-        const uint32_t end = n.first + n.count;
-        for (uint32_t i = n.first; i < end; ++i) {
-          ++tests;
-          if (prim_ids_[i] < num_triangles_) {
-            float t, b1, b2;
-            if (hit_packed(tris_[i], r, &t, &b1, &b2)) {
-              r.max_t = t;
-              best = int(i);
-              best_b1 = b1;
-              best_b2 = b2;
+  WideEntry cur{0, wide_.root_count, r.min_t};
+  for (;;) {
+    ++visits;
+    if (cur.count == 0) {
+      // Interior: test the four children's boxes; go on to the nearest hit
+      // one and push the others, farthest first.
+      const WideNode& n = wide_.nodes[cur.child];
+      __m128 tn;
+      int mask = wide_box_test(n, wr, t_min, _mm_set1_ps(r.max_t), &tn);
+      if (mask != 0) {
+        alignas(16) float t[4];
+        _mm_store_ps(t, tn);
+        const int c = lowest_bit(mask);
+        mask &= mask - 1;
+        if (mask == 0) {  // one child: no stack at all
+          cur = {n.child[c], n.count[c], t[c]};
+          continue;
+        }
+        WideEntry* const base = stack + sp;
+        stack[sp++] = {n.child[c], n.count[c], t[c]};
+        for (; mask != 0; mask &= mask - 1) {
+          const int k = lowest_bit(mask);
+          // Insertion into [base, sp) sorted by decreasing t.
+          WideEntry e{n.child[k], n.count[k], t[k]};
+          int j = sp++;
+          while (stack + j > base && stack[j - 1].t < e.t) {
+            stack[j] = stack[j - 1];
+            --j;
+          }
+          stack[j] = e;
+        }
+        cur = stack[--sp];
+        continue;
+      }
+    } else {
+      // Leaf: its packets, nearest hit kept.
+      LeafLanes leaf(cur.count);
+      uint32_t lanes;
+      int lane_mask;
+      for (uint32_t pi = cur.child; leaf.next(&lanes, &lane_mask); ++pi) {
+        tests += lanes;
+        __m128 tv, b1v, b2v;
+        const int mask = packet_test(wide_.packets[pi], wr, t_min, _mm_set1_ps(r.max_t), &tv, &b1v, &b2v) & lane_mask;
+        if (mask != 0) {
+          alignas(16) float t[4], b1[4], b2[4];
+          _mm_store_ps(t, tv);
+          _mm_store_ps(b1, b1v);
+          _mm_store_ps(b2, b2v);
+          const int lane = nearest_lane(mask, t);
+          r.max_t = t[lane];
+          best_packet = pi;
+          best_lane = lane;
+          best_is_sphere = false;
+          best_b1 = b1[lane];
+          best_b2 = b2[lane];
+        }
+        if (wide_.has_spheres) {
+          for (int lane = 0; lane < 4; ++lane) {
+            const uint32_t id = wide_.ids[4 * size_t(pi) + size_t(lane)];
+            if ((lane_mask >> lane & 1) && id >= num_triangles_ &&
+                intersect_sphere(scene_.spheres[id - num_triangles_], r, &sphere_hit)) {
+              best_packet = pi;
+              best_lane = lane;
+              best_is_sphere = true;
             }
-          } else if (intersect_sphere(scene_.spheres[prim_ids_[i] - num_triangles_], r, &sphere_hit)) {
-            best = int(i);
           }
         }
-        break;
-      }
-      // Interior: test both children, go to the nearer, keep the other.
-      float ta, tb;
-      const int h = slab_test_pair(&nodes_[n.first], pray, r.min_t, r.max_t, &ta, &tb);
-      const bool ha = h & 1, hb = h & 2;
-      if (ha && hb) {
-        if (ta <= tb) {
-          stack[sp++] = {n.first + 1, tb};
-          ni = n.first;
-        } else {
-          stack[sp++] = {n.first, ta};
-          ni = n.first + 1;
-        }
-      } else if (ha) {
-        ni = n.first;
-      } else if (hb) {
-        ni = n.first + 1;
-      } else {
-        break;
       }
     }
+    // Next: the nearest pushed entry that starts before the nearest hit.
+    // Nothing in a box entered at or beyond it can be strictly nearer.
+    do {
+      if (sp == 0) goto done;
+      cur = stack[--sp];
+    } while (cur.t >= r.max_t);
   }
+done:
   stats.primitive_tests += tests;
   stats.node_visits += visits;
-  if (best < 0) return false;
+  if (best_lane < 0) return false;
   if (hit) {
-    const uint32_t id = prim_ids_[size_t(best)];
-    if (id < num_triangles_) {
+    const uint32_t id = wide_.ids[4 * size_t(best_packet) + size_t(best_lane)];
+    if (!best_is_sphere) {
       const Triangle& tri = scene_.triangles[id];
       hit->t = r.max_t;
       hit->n = normalize(tri.n1 * (1.0f - best_b1 - best_b2) + tri.n2 * best_b1 + tri.n3 * best_b2);
@@ -140,35 +166,72 @@ bool BVH::occluded(const Ray& ray) const {
   // BEGIN SOLUTION
   // STUB: PT_TODO_AS(2, "BVH::occluded", "testing every primitive");
   // STUB: return any_primitive_occludes(scene_, r);
-  const PairRay pray(r);
+  // Read from `ray`, not from its copy `r`, which is then never made: it is
+  // copied 16 bytes at a time (see WideRay for why that stalls).
+  (void)r;
+  const WideRay wr(ray);
+  if (!wr.finite) return false;
+  const __m128 t_min = _mm_set1_ps(ray.min_t), t_max = _mm_set1_ps(ray.max_t);
   uint64_t tests = 0, visits = 0;
   bool found = false;
-  uint32_t stack[kStackSize];
+  WideEntry stack[kStackSize];
   int sp = 0;
-  float t_enter;
-  if (slab_test(nodes_[0].lo, nodes_[0].hi, r.o, pray.inv, r.min_t, r.max_t, &t_enter)) stack[sp++] = 0;
-  while (sp > 0 && !found) {
-    const BVHNode& n = nodes_[stack[--sp]];
+  WideEntry cur{0, wide_.root_count, ray.min_t};
+  for (;;) {
     ++visits;
-    if (n.is_leaf()) {
-      const uint32_t end = n.first + n.count;
-      for (uint32_t i = n.first; i < end; ++i) {
-        ++tests;
-        float t, b1, b2;
-        const bool h = prim_ids_[i] < num_triangles_
-                           ? hit_packed(tris_[i], r, &t, &b1, &b2)
-                           : intersect_sphere(scene_.spheres[prim_ids_[i] - num_triangles_], r, nullptr);
-        if (h) {
-          found = true;  // any hit will do
-          break;
+    if (cur.count == 0) {
+      // Interior: go on to the farthest child hit and push the others,
+      // nearest first (bvh_wide.h says why far first).
+      const WideNode& n = wide_.nodes[cur.child];
+      __m128 tn;
+      int mask = wide_box_test(n, wr, t_min, t_max, &tn);
+      if (mask != 0) {
+        alignas(16) float t[4];
+        _mm_store_ps(t, tn);
+        const int c = lowest_bit(mask);
+        mask &= mask - 1;
+        if (mask == 0) {
+          cur = {n.child[c], n.count[c], t[c]};
+          continue;
+        }
+        WideEntry* const base = stack + sp;
+        stack[sp++] = {n.child[c], n.count[c], t[c]};
+        for (; mask != 0; mask &= mask - 1) {
+          const int k = lowest_bit(mask);
+          // Insertion into [base, sp) sorted by increasing t.
+          WideEntry e{n.child[k], n.count[k], t[k]};
+          int j = sp++;
+          while (stack + j > base && stack[j - 1].t > e.t) {
+            stack[j] = stack[j - 1];
+            --j;
+          }
+          stack[j] = e;
+        }
+        cur = stack[--sp];
+        continue;
+      }
+    } else {
+      LeafLanes leaf(cur.count);
+      uint32_t lanes;
+      int lane_mask;
+      for (uint32_t pi = cur.child; !found && leaf.next(&lanes, &lane_mask); ++pi) {
+        tests += lanes;
+        __m128 tv, b1v, b2v;
+        found = (packet_test(wide_.packets[pi], wr, t_min, t_max, &tv, &b1v, &b2v) & lane_mask) != 0;
+        if (wide_.has_spheres) {
+          for (int lane = 0; lane < 4 && !found; ++lane) {
+            const uint32_t id = wide_.ids[4 * size_t(pi) + size_t(lane)];
+            if ((lane_mask >> lane & 1) && id >= num_triangles_) {
+              Ray rs = ray;  // intersect_sphere shortens the ray it is given
+              found = intersect_sphere(scene_.spheres[id - num_triangles_], rs, nullptr);
+            }
+          }
         }
       }
-      continue;
+      if (found) break;  // any hit will do
     }
-    float ta, tb;
-    const int h = slab_test_pair(&nodes_[n.first], pray, r.min_t, r.max_t, &ta, &tb);
-    if (h & 2) stack[sp++] = n.first + 1;
-    if (h & 1) stack[sp++] = n.first;
+    if (sp == 0) break;
+    cur = stack[--sp];
   }
   stats.primitive_tests += tests;
   stats.node_visits += visits;

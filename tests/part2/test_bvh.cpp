@@ -39,18 +39,45 @@ Scene random_scene(int triangles, int spheres, uint64_t seed) {
   return s;
 }
 
-// Checks the tree: every primitive in exactly one leaf, boxes nest, leaf
-// sizes respected, children of a node adjacent at an even index.
-void check_invariants(const Scene& scene, const BVH& bvh, int max_leaf) {
+bool box_contains(const BBox& outer, const BBox& inner) {
+  return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z &&
+         outer.hi.x >= inner.hi.x && outer.hi.y >= inner.hi.y && outer.hi.z >= inner.hi.z;
+}
+
+// Checks what the interface shows of the tree (a BVH's layout is its own):
+// bounds() is the scene's box, exactly; the statistics are consistent with
+// leaves of at most max_leaf primitives.
+void check_interface(const Scene& scene, const BVH& bvh, int max_leaf) {
+  BBox all;
+  for (const Triangle& t : scene.triangles) all.expand(t.bounds());
+  for (const Sphere& sp : scene.spheres) all.expand(sp.bounds());
+  const BBox b = bvh.bounds();
+  CHECK(b.lo == all.lo);
+  CHECK(b.hi == all.hi);
+  const BVHBuildStats& st = bvh.build_stats();
+  const size_t n = scene.num_primitives();
+  CHECK(st.leaves >= (n + size_t(max_leaf) - 1) / size_t(max_leaf));
+  CHECK(st.leaves <= n);
+  CHECK(st.nodes >= st.leaves);
+  CHECK(st.sah_cost > 0);
+  CHECK(st.build_seconds >= 0);
+}
+
+// BEGIN SOLUTION
+// The reference's own layout (not a contract for students' BVHs). Binary
+// tree: every primitive in exactly one leaf, boxes nest, leaf sizes
+// respected. 4-wide tree collapsed from it: every primitive in exactly one
+// packet lane, under boxes that hold it, each node's slots either used or
+// empty boxes.
+void check_reference_layout(const Scene& scene, const BVH& bvh, int max_leaf) {
   const auto& nodes = bvh.nodes();
   const auto& ids = bvh.leaf_primitives();
   const size_t n = scene.num_primitives();
   REQUIRE(ids.size() == n);
-  std::vector<int> seen(n, 0);
-  const auto contains = [](const BVHNode& outer, const BBox& inner) {
-    return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z &&
-           outer.hi.x >= inner.hi.x && outer.hi.y >= inner.hi.y && outer.hi.z >= inner.hi.z;
+  const auto prim_box = [&](uint32_t id) {
+    return id < scene.triangles.size() ? scene.triangles[id].bounds() : scene.spheres[id - scene.triangles.size()].bounds();
   };
+  std::vector<int> seen(n, 0);
   size_t leaves_checked = 0;
   std::function<void(uint32_t)> visit = [&](uint32_t i) {
     REQUIRE(i < nodes.size());
@@ -60,18 +87,14 @@ void check_invariants(const Scene& scene, const BVH& bvh, int max_leaf) {
       ++leaves_checked;
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
         REQUIRE(k < ids.size());
-        const uint32_t id = ids[k];
-        REQUIRE(id < n);
-        ++seen[id];
-        const BBox b = id < scene.triangles.size() ? scene.triangles[id].bounds()
-                                                   : scene.spheres[id - scene.triangles.size()].bounds();
-        CHECK(contains(node, b));
+        REQUIRE(ids[k] < n);
+        ++seen[ids[k]];
+        CHECK(box_contains(BBox(node.lo, node.hi), prim_box(ids[k])));
       }
       return;
     }
-    CHECK(node.first % 2 == 0);  // a sibling pair shares one 64-byte line
     for (uint32_t c : {node.first, node.first + 1}) {
-      CHECK(contains(node, BBox(nodes[c].lo, nodes[c].hi)));
+      CHECK(box_contains(BBox(node.lo, node.hi), BBox(nodes[c].lo, nodes[c].hi)));
       visit(c);
     }
   };
@@ -81,7 +104,55 @@ void check_invariants(const Scene& scene, const BVH& bvh, int max_leaf) {
     CHECK(seen[id] == 1);
   }
   CHECK(leaves_checked == bvh.build_stats().leaves);
+  CHECK(nodes.size() == bvh.build_stats().nodes);
+
+  // The wide tree.
+  const WideBVH& w = bvh.wide();
+  REQUIRE(w.ids.size() == 4 * w.packets.size());
+  std::vector<int> in_lane(n, 0);
+  std::function<void(uint32_t, uint32_t, const BBox&)> visit_wide = [&](uint32_t child, uint32_t count,
+                                                                        const BBox& box) {
+    if (count > 0) {
+      const uint32_t first_lane = count >> kLeafLaneShift, prims = count & kLeafCountMask;
+      CHECK((prims <= 4 ? first_lane + prims <= 4 : first_lane == 0));
+      for (uint32_t k = 0; k < prims; ++k) {
+        const size_t slot = 4 * size_t(child) + first_lane + k;
+        REQUIRE(slot < w.ids.size());
+        const uint32_t id = w.ids[slot];
+        REQUIRE(id < n);
+        ++in_lane[id];
+        CHECK(box_contains(box, prim_box(id)));
+      }
+      return;
+    }
+    REQUIRE(child < w.nodes.size());
+    const WideNode& node = w.nodes[child];
+    int used = 0;
+    for (int c = 0; c < 4; ++c) {
+      const BBox cb(Vec3(node.bounds[0][c], node.bounds[2][c], node.bounds[4][c]),
+                    Vec3(node.bounds[1][c], node.bounds[3][c], node.bounds[5][c]));
+      if (node.bounds[0][c] == INFINITY) {  // an empty slot
+        CHECK(node.bounds[1][c] == -INFINITY);
+        continue;
+      }
+      ++used;
+      CHECK(box_contains(box, cb));
+      visit_wide(node.child[c], node.count[c], cb);
+    }
+    CHECK(used >= 2);
+  };
+  if (n > 0) visit_wide(0, w.root_count, bvh.bounds());
+  for (size_t id = 0; id < n; ++id) {
+    INFO("primitive " << id << " in the wide tree");
+    CHECK(in_lane[id] == 1);
+  }
+  // Every lane holding a primitive belongs to exactly one leaf (checked
+  // above); the others are empty.
+  size_t used_lanes = 0;
+  for (const uint32_t id : w.ids) used_lanes += id != WideBVH::kNoPrimitive;
+  CHECK(used_lanes == n);
 }
+// END SOLUTION
 
 // Random rays: origins in and around the scene (within `spread` of the
 // centre), directions uniform on the sphere, or aimed at a random point of
@@ -150,15 +221,18 @@ void check_equivalence(const Scene& scene, const BVH& bvh, int rays, uint64_t se
 
 }  // namespace
 
-TEST_CASE("BVH invariants on a random triangle and sphere soup, for several leaf sizes", "[part2][bvh]") {
+TEST_CASE("BVH bounds and statistics on a random triangle and sphere soup, for several leaf sizes", "[part2][bvh]") {
   const Scene s = random_scene(5000, 40, 1);
   for (int leaf : {1, 2, 4, 8}) {
     INFO("max leaf " << leaf);
     BVHOptions o;
     o.max_leaf_size = leaf;
     const BVH bvh(s, o);
-    check_invariants(s, bvh, leaf);
+    check_interface(s, bvh, leaf);
     CHECK(bvh.build_stats().depth < 64);
+    // BEGIN SOLUTION
+    check_reference_layout(s, bvh, leaf);
+    // END SOLUTION
   }
 }
 
@@ -178,7 +252,10 @@ TEST_CASE("BVH equals brute force on rays starting inside boxes and far outside"
 TEST_CASE("BVH equals brute force on a course scene", "[part2][bvh][course]") {
   const Scene s = load_collada(test::course_scene("CBbunny.dae"));
   const BVH bvh(s);
-  check_invariants(s, bvh, 4);
+  check_interface(s, bvh, 4);
+  // BEGIN SOLUTION
+  check_reference_layout(s, bvh, 4);
+  // END SOLUTION
   check_equivalence(s, bvh, 5000, 11, 1.0f);  // brute force on 28k triangles is slow
 }
 
@@ -198,7 +275,10 @@ TEST_CASE("BVH degenerate input: one centroid, one triangle, zero-area triangles
       t.p3 -= c;
     }
     const BVH bvh(s);
-    check_invariants(s, bvh, 4);
+    check_interface(s, bvh, 4);
+    // BEGIN SOLUTION
+    check_reference_layout(s, bvh, 4);
+    // END SOLUTION
     check_equivalence(s, bvh, 5000, 12, 3.0f);
   }
   SECTION("a single triangle") {
@@ -206,7 +286,10 @@ TEST_CASE("BVH degenerate input: one centroid, one triangle, zero-area triangles
     s.materials.push_back(Material{});
     s.triangles.push_back(make_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
     const BVH bvh(s);
-    check_invariants(s, bvh, 4);
+    check_interface(s, bvh, 4);
+    // BEGIN SOLUTION
+    check_reference_layout(s, bvh, 4);
+    // END SOLUTION
     CHECK(bvh.build_stats().nodes == 1);
     Ray r({0.2f, 0.2f, 1}, {0, 0, -1});
     Hit h;
@@ -222,13 +305,17 @@ TEST_CASE("BVH degenerate input: one centroid, one triangle, zero-area triangles
       s.triangles.back().n1 = s.triangles.back().n2 = s.triangles.back().n3 = Vec3(0, 0, 1);
     }
     const BVH bvh(s);
-    check_invariants(s, bvh, 4);
+    check_interface(s, bvh, 4);
+    // BEGIN SOLUTION
+    check_reference_layout(s, bvh, 4);
+    // END SOLUTION
     check_equivalence(s, bvh, 5000, 13, 1.5f);
   }
   SECTION("an empty scene") {
     Scene s;
     const BVH bvh(s);
-    CHECK(bvh.nodes().empty());
+    CHECK(bvh.build_stats().nodes == 0);
+    CHECK(bvh.bounds().empty());
     Ray r({0, 0, 0}, {0, 0, 1});
     Hit h;
     CHECK_FALSE(bvh.intersect(r, &h));
@@ -252,4 +339,40 @@ TEST_CASE("BVH counters: one query per call, and fewer tests than brute force", 
   CHECK(st.shadow_queries == 1000u);
   CHECK(st.node_visits > 0u);
   CHECK(st.primitive_tests < 2000u * 4000u / 20);  // at least 20x fewer than testing everything
+}
+
+TEST_CASE("BVH build: the same tree for any number of build threads", "[part2][bvh]") {
+  // Large enough for a parallel builder to split its work.
+  const Scene s = random_scene(60000, 20, 6);
+  std::vector<RayStats> counts;
+  std::vector<BVHBuildStats> builds;
+  std::vector<std::vector<float>> hits;
+  for (int threads : {1, 2, 3, 8}) {
+    BVHOptions o;
+    o.build_threads = threads;
+    const BVH bvh(s, o);
+    builds.push_back(bvh.build_stats());
+    RayStats& st = thread_ray_stats();
+    st = RayStats{};
+    Rng rng(21);
+    std::vector<float> t;
+    for (int i = 0; i < 2000; ++i) {
+      Ray r = random_ray(rng, 1.5f);
+      Hit h;
+      t.push_back(bvh.intersect(r, &h) ? h.t + float(h.primitive) : -1.0f);
+      t.push_back(bvh.occluded(random_ray(rng, 1.5f)) ? 1.0f : 0.0f);
+    }
+    counts.push_back(st);
+    hits.push_back(t);
+  }
+  for (size_t k = 1; k < builds.size(); ++k) {
+    INFO("thread count #" << k);
+    CHECK(builds[k].nodes == builds[0].nodes);
+    CHECK(builds[k].leaves == builds[0].leaves);
+    CHECK(builds[k].depth == builds[0].depth);
+    CHECK(builds[k].sah_cost == builds[0].sah_cost);
+    CHECK(counts[k].primitive_tests == counts[0].primitive_tests);
+    CHECK(counts[k].node_visits == counts[0].node_visits);
+    CHECK(hits[k] == hits[0]);
+  }
 }

@@ -395,15 +395,16 @@ def region_around(lines, index):
     return b, e
 
 
-def check_this_tree_passes_and_would_catch_builder_and_hit_packed(tmp):
+def check_this_tree_passes_and_would_catch_builder_and_nearest_lane(tmp):
     """This tree's stages pass (their READMEs list all given code), and the
-    check catches the BVH builder (struct Builder) and the packed-triangle
-    test (hit_packed) when they are outside their solution regions."""
+    check catches the BVH builder (struct Builder) and the traversal's
+    helper nearest_lane when they are outside their solution regions."""
     stages = copy_stages(tmp)
     run = generate(stages, tmp)
     expect_success(run, "this tree's stages")
-    expect(not os.path.exists(os.path.join(run.dest, "stages/part2_bvh/slab_test_pair.h")),
-           "slab_test_pair.h (REFERENCE ONLY) is in the kit")
+    for ref in ("bvh_wide.h", "bvh_binning.h"):
+        expect(not os.path.exists(os.path.join(run.dest, "stages/part2_bvh", ref)),
+               f"{ref} (REFERENCE ONLY) is in the kit")
 
     # Builder is the last definition of its region: close the region before it.
     rel = "stages/part2_bvh/bvh_build.cpp"
@@ -416,17 +417,17 @@ def check_this_tree_passes_and_would_catch_builder_and_hit_packed(tmp):
     expect_failure(run, f"{rel}:{line_of(text, 'struct Builder {')}:", "struct Builder", "not listed as given",
                    what="Builder outside its region")
 
-    # hit_packed is the first definition of its region: open the region after it.
+    # nearest_lane is the first definition of its region: open the region after it.
     rel = "stages/part2_bvh/bvh_traverse.cpp"
     lines = stages[rel].split("\n")
-    at = next(k for k, l in enumerate(lines) if "bool hit_packed(" in l)
+    at = next(k for k, l in enumerate(lines) if "int nearest_lane(" in l)
     b, e = region_around(lines, at)
     end_of_function = next(k for k in range(at, e) if lines[k] == "}")
     moved = lines[:b] + lines[b + 1:end_of_function + 1] + ["// BEGIN SOLUTION"] + lines[end_of_function + 1:]
     text = "\n".join(moved)
     run = generate(dict(stages, **{rel: text}), tmp)
-    expect_failure(run, f"{rel}:{line_of(text, 'bool hit_packed(')}:", "function hit_packed", "not listed as given",
-                   what="hit_packed outside its region")
+    expect_failure(run, f"{rel}:{line_of(text, 'int nearest_lane(')}:", "function nearest_lane", "not listed as given",
+                   what="nearest_lane outside its region")
 
     # A given definition dropped from its README's list.
     rel = "stages/part2_bvh/README.md"

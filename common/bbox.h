@@ -2,7 +2,7 @@
 #pragma once
 #include <limits>
 
-#include "vec3.h"
+#include "common/vec3.h"
 
 namespace pt {
 

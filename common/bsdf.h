@@ -3,8 +3,8 @@
 // microfacet materials are shaded as diffuse with their albedo (see
 // docs/differences.md).
 #pragma once
-#include "samplers.h"
-#include "scene.h"
+#include "common/samplers.h"
+#include "common/scene.h"
 
 namespace pt {
 

@@ -1,4 +1,4 @@
-#include "camera.h"
+#include "common/camera.h"
 
 #include <cmath>
 #include <fstream>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "math_constants.h"
+#include "common/math_constants.h"
 
 namespace pt {
 

@@ -4,8 +4,8 @@
 #pragma once
 #include <string>
 
-#include "bbox.h"
-#include "vec3.h"
+#include "common/bbox.h"
+#include "common/vec3.h"
 
 namespace pt {
 
@@ -69,7 +69,7 @@ struct Camera {
 
 }  // namespace pt
 
-#include "ray.h"
+#include "common/ray.h"
 
 namespace pt {
 

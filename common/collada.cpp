@@ -14,16 +14,16 @@
 // accumulated world transform. Geometry, lights and the camera are converted
 // to world space (Y up) as they are met; materials are created on first use.
 // The camera is placed last, from the bounds of all geometry.
-#include "collada.h"
+#include "common/collada.h"
 
 #include <new>
 
-#include "collada/camera_reader.h"
-#include "collada/document.h"
-#include "collada/geometry_reader.h"
-#include "collada/material_reader.h"
-#include "collada/messages.h"
-#include "collada/node_walk.h"
+#include "common/collada/camera_reader.h"
+#include "common/collada/document.h"
+#include "common/collada/geometry_reader.h"
+#include "common/collada/material_reader.h"
+#include "common/collada/messages.h"
+#include "common/collada/node_walk.h"
 
 namespace pt {
 

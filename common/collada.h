@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "scene.h"
+#include "common/scene.h"
 
 namespace pt {
 

@@ -6,8 +6,8 @@
 // query tests everything shows only here). One extra virtual call per
 // query, none per primitive.
 #pragma once
-#include "intersector.h"
-#include "stats.h"
+#include "common/intersector.h"
+#include "common/stats.h"
 
 namespace pt {
 

@@ -1,4 +1,4 @@
-#include "environment.h"
+#include "common/environment.h"
 
 #include <ImfChannelList.h>
 #include <ImfHeader.h>
@@ -20,7 +20,7 @@
 #include <system_error>
 #include <vector>
 
-#include "samplers.h"
+#include "common/samplers.h"
 
 namespace pt {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "vec3.h"
+#include "common/vec3.h"
 
 namespace pt {
 

@@ -3,7 +3,7 @@
 #pragma once
 #include <cmath>
 
-#include "vec3.h"
+#include "common/vec3.h"
 
 namespace pt {
 

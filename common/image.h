@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "vec3.h"
+#include "common/vec3.h"
 
 namespace pt {
 

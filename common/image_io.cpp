@@ -1,4 +1,4 @@
-#include "image_io.h"
+#include "common/image_io.h"
 
 #include <fcntl.h>
 #include <lodepng.h>

@@ -3,7 +3,7 @@
 // testing every primitive, part 2 through the BVH. One virtual call per ray,
 // never per primitive.
 #pragma once
-#include "ray.h"
+#include "common/ray.h"
 
 namespace pt {
 

@@ -4,8 +4,8 @@
 #pragma once
 #include <limits>
 
-#include "samplers.h"
-#include "scene.h"
+#include "common/samplers.h"
+#include "common/scene.h"
 
 namespace pt {
 

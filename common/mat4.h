@@ -1,8 +1,8 @@
 // 4x4 affine transforms in double precision, column-vector convention
 // (p' = M * p), stored row-major like COLLADA's <matrix>.
 #pragma once
-#include "math_constants.h"
-#include "vec3.h"
+#include "common/math_constants.h"
+#include "common/vec3.h"
 
 namespace pt {
 

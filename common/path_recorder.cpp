@@ -1,4 +1,4 @@
-#include "path_recorder.h"
+#include "common/path_recorder.h"
 
 namespace pt::detail {
 

@@ -13,7 +13,7 @@
 // thread: a normal render pays one thread-local test per hook (a handful
 // per path) and computes exactly the same numbers.
 #pragma once
-#include "ray.h"
+#include "common/ray.h"
 
 namespace pt {
 

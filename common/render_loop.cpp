@@ -1,4 +1,4 @@
-#include "render_loop.h"
+#include "common/render_loop.h"
 
 #include <unistd.h>
 

@@ -5,7 +5,7 @@
 #pragma once
 #include <functional>
 
-#include "stats.h"
+#include "common/stats.h"
 
 namespace pt {
 

@@ -3,8 +3,8 @@
 #pragma once
 #include <cmath>
 
-#include "math_constants.h"
-#include "vec3.h"
+#include "common/math_constants.h"
+#include "common/vec3.h"
 
 namespace pt {
 

@@ -1,4 +1,4 @@
-#include "scene.h"
+#include "common/scene.h"
 
 namespace pt {
 

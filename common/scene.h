@@ -5,12 +5,12 @@
 #include <string>
 #include <vector>
 
-#include "bbox.h"
+#include "common/bbox.h"
 #include <memory>
 
-#include "camera.h"
-#include "environment.h"
-#include "vec3.h"
+#include "common/camera.h"
+#include "common/environment.h"
+#include "common/vec3.h"
 
 namespace pt {
 

@@ -1,4 +1,4 @@
-#include "todo.h"
+#include "common/todo.h"
 
 #include <cstdio>
 #include <mutex>
@@ -10,7 +10,7 @@
 #define PT_SOURCE_DIR ""
 #endif
 
-#include "path_recorder.h"
+#include "common/path_recorder.h"
 
 namespace pt {
 

@@ -1,10 +1,10 @@
-#include "bvh_overlay.h"
+#include "pathtracer/bvh_overlay.h"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "image_io.h"
+#include "common/image_io.h"
 
 namespace pt {
 

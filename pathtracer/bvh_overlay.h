@@ -5,9 +5,9 @@
 #pragma once
 #include <string>
 
-#include "bvh.h"
-#include "camera.h"
-#include "image.h"
+#include "stages/part2_bvh/bvh.h"
+#include "common/camera.h"
+#include "common/image.h"
 
 namespace pt {
 

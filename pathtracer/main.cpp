@@ -3,8 +3,8 @@
 #include <exception>
 #include <new>
 
-#include "options.h"
-#include "render_job.h"
+#include "pathtracer/options.h"
+#include "pathtracer/render_job.h"
 
 int main(int argc, char** argv) {
   // The render job reports its own errors; this is the last resort, so

@@ -1,4 +1,4 @@
-#include "options.h"
+#include "pathtracer/options.h"
 
 #include <CLI/CLI.hpp>
 #include <charconv>
@@ -8,7 +8,7 @@
 #include <system_error>
 #include <vector>
 
-#include "image_io.h"
+#include "common/image_io.h"
 
 namespace pt {
 

@@ -1,9 +1,9 @@
-#include "radiance.h"
+#include "pathtracer/radiance.h"
 
 #include <algorithm>
 
-#include "direct_lighting.h"
-#include "shading.h"
+#include "stages/part3_direct_lighting/direct_lighting.h"
+#include "stages/part1_raytracing/shading.h"
 
 namespace pt {
 

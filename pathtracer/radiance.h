@@ -3,11 +3,11 @@
 // options. The renderer (render_job.cpp) and the debugger's path inspector
 // both take it from here, so a replayed sample is the rendered one.
 #pragma once
-#include "global_illumination.h"
-#include "intersector.h"
-#include "options.h"
-#include "pixel_sampling.h"
-#include "scene.h"
+#include "stages/part4_global_illumination/global_illumination.h"
+#include "common/intersector.h"
+#include "pathtracer/options.h"
+#include "stages/part1_raytracing/pixel_sampling.h"
+#include "common/scene.h"
 
 namespace pt {
 

@@ -1,4 +1,4 @@
-#include "render_job.h"
+#include "pathtracer/render_job.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,17 +9,17 @@
 #include <new>
 #include <stdexcept>
 
-#include "brute_force.h"
-#include "bvh_overlay.h"
-#include "adaptive_sampling.h"
-#include "clock.h"
-#include "collada.h"
-#include "cost_splitting_intersector.h"
-#include "image_io.h"
-#include "json.h"
-#include "pixel_sampling.h"
-#include "radiance.h"
-#include "render_loop.h"
+#include "stages/part1_raytracing/brute_force.h"
+#include "pathtracer/bvh_overlay.h"
+#include "stages/part5_adaptive_sampling/adaptive_sampling.h"
+#include "common/clock.h"
+#include "common/collada.h"
+#include "common/cost_splitting_intersector.h"
+#include "common/image_io.h"
+#include "common/json.h"
+#include "stages/part1_raytracing/pixel_sampling.h"
+#include "pathtracer/radiance.h"
+#include "common/render_loop.h"
 
 namespace pt {
 

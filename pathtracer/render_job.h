@@ -5,11 +5,11 @@
 #include <memory>
 #include <string>
 
-#include "bvh.h"
-#include "image.h"
-#include "options.h"
-#include "scene.h"
-#include "stats.h"
+#include "stages/part2_bvh/bvh.h"
+#include "common/image.h"
+#include "pathtracer/options.h"
+#include "common/scene.h"
+#include "common/stats.h"
 
 namespace pt {
 

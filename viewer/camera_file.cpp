@@ -1,4 +1,4 @@
-#include "camera_file.h"
+#include "viewer/camera_file.h"
 
 #include <cmath>
 #include <cstdio>

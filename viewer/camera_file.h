@@ -2,7 +2,7 @@
 #pragma once
 #include <string>
 
-#include "camera.h"
+#include "common/camera.h"
 
 namespace pt::viewer {
 

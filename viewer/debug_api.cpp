@@ -1,11 +1,11 @@
-#include "debug_api.h"
+#include "viewer/debug_api.h"
 
 #include <cmath>
 #include <limits>
 
-#include "debugger.h"
-#include "json.h"
-#include "json_values.h"
+#include "viewer/debugger/debugger.h"
+#include "common/json.h"
+#include "viewer/debugger/json_values.h"
 
 namespace pt::viewer {
 

@@ -7,8 +7,8 @@
 #include <functional>
 #include <string>
 
-#include "options.h"
-#include "scene.h"
+#include "pathtracer/options.h"
+#include "common/scene.h"
 
 namespace pt::viewer {
 

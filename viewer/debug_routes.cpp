@@ -6,9 +6,9 @@
 #include <mutex>
 #include <string>
 
-#include "debug_api.h"
-#include "http_helpers.h"
-#include "routes.h"
+#include "viewer/debug_api.h"
+#include "viewer/http_helpers.h"
+#include "viewer/routes.h"
 
 namespace pt::viewer {
 

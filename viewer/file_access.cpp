@@ -1,4 +1,4 @@
-#include "file_access.h"
+#include "viewer/file_access.h"
 
 #include <algorithm>
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include "http_helpers.h"
+#include "viewer/http_helpers.h"
 
 #include <fstream>
 #include <sstream>

@@ -10,8 +10,8 @@
 
 #include <httplib.h>
 
-#include "json.h"
-#include "requests.h"
+#include "common/json.h"
+#include "viewer/requests.h"
 
 namespace pt::viewer {
 

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "options.h"
-#include "server.h"
-#include "worker.h"
+#include "pathtracer/options.h"
+#include "viewer/server.h"
+#include "viewer/worker.h"
 
 namespace {
 

@@ -1,14 +1,14 @@
-#include "overlays.h"
+#include "viewer/overlays.h"
 
 #include <algorithm>
 #include <cstring>
 #include <functional>
 
-#include "grade.h"
-#include "image_io.h"
-#include "pictures.h"
-#include "reference.h"
-#include "requests.h"
+#include "grader/src/grade.h"
+#include "common/image_io.h"
+#include "grader/src/pictures.h"
+#include "grader/src/reference.h"
+#include "viewer/requests.h"
 
 namespace pt::viewer {
 

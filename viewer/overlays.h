@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "options.h"
-#include "viewer_cases.h"
-#include "workers.h"
+#include "pathtracer/options.h"
+#include "viewer/viewer_cases.h"
+#include "viewer/workers.h"
 
 namespace pt::viewer {
 

@@ -1,4 +1,4 @@
-#include "requests.h"
+#include "viewer/requests.h"
 
 #include <cerrno>
 #include <cmath>

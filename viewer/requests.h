@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "file_access.h"
-#include "json.h"
-#include "options.h"
-#include "vec3.h"
+#include "viewer/file_access.h"
+#include "common/json.h"
+#include "pathtracer/options.h"
+#include "common/vec3.h"
 
 namespace pt::viewer {
 

@@ -12,10 +12,10 @@
 
 #include <httplib.h>
 
-#include "scenes.h"
-#include "server.h"
-#include "viewer_cases.h"
-#include "workers.h"
+#include "viewer/scenes.h"
+#include "viewer/server.h"
+#include "viewer/viewer_cases.h"
+#include "viewer/workers.h"
 
 namespace pt::viewer {
 

@@ -1,11 +1,11 @@
-#include "scenes.h"
+#include "viewer/scenes.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "collada.h"
-#include "render_job.h"
+#include "common/collada.h"
+#include "pathtracer/render_job.h"
 
 namespace pt::viewer {
 

@@ -6,9 +6,9 @@
 #include <mutex>
 #include <string>
 
-#include "camera.h"
-#include "requests.h"
-#include "scene.h"
+#include "common/camera.h"
+#include "viewer/requests.h"
+#include "common/scene.h"
 
 namespace pt::viewer {
 

@@ -1,7 +1,7 @@
 // The server: its setup (the token, the temporary folder, the watchdog
 // that stops an unwatched render) and its routes, grouped by what they
 // serve: the page, the scene, renders, the BVH.
-#include "server.h"
+#include "viewer/server.h"
 
 #include <signal.h>
 #include <unistd.h>
@@ -24,14 +24,14 @@
 
 #include <httplib.h>
 
-#include "camera_file.h"
-#include "http_helpers.h"
-#include "image_io.h"
-#include "json.h"
-#include "overlays.h"
-#include "render_job.h"
-#include "requests.h"
-#include "routes.h"
+#include "viewer/camera_file.h"
+#include "viewer/http_helpers.h"
+#include "common/image_io.h"
+#include "common/json.h"
+#include "viewer/overlays.h"
+#include "pathtracer/render_job.h"
+#include "viewer/requests.h"
+#include "viewer/routes.h"
 
 namespace pt::viewer {
 

@@ -5,8 +5,8 @@
 #pragma once
 #include <string>
 
-#include "file_access.h"
-#include "options.h"
+#include "viewer/file_access.h"
+#include "pathtracer/options.h"
 
 namespace pt::viewer {
 

@@ -1,6 +1,6 @@
-#include "viewer_cases.h"
+#include "viewer/viewer_cases.h"
 
-#include "requests.h"
+#include "viewer/requests.h"
 
 namespace pt::viewer {
 

@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "case_list.h"
-#include "file_access.h"
-#include "options.h"
+#include "grader/src/case_list.h"
+#include "viewer/file_access.h"
+#include "pathtracer/options.h"
 
 namespace pt::viewer {
 

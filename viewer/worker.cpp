@@ -1,4 +1,4 @@
-#include "worker.h"
+#include "viewer/worker.h"
 
 #include <execinfo.h>
 #include <unistd.h>
@@ -15,14 +15,14 @@
 #include <string>
 #include <vector>
 
-#include "bvh.h"
-#include "camera_rays.h"
-#include "collada.h"
-#include "debug_api.h"
-#include "debugger.h"
-#include "options.h"
-#include "render_job.h"
-#include "todo.h"
+#include "stages/part2_bvh/bvh.h"
+#include "stages/part1_raytracing/camera_rays.h"
+#include "common/collada.h"
+#include "viewer/debug_api.h"
+#include "viewer/debugger/debugger.h"
+#include "pathtracer/options.h"
+#include "pathtracer/render_job.h"
+#include "common/todo.h"
 
 namespace pt::viewer {
 

@@ -1,4 +1,4 @@
-#include "workers.h"
+#include "viewer/workers.h"
 
 #include <cxxabi.h>
 #include <cerrno>
@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "requests.h"
+#include "viewer/requests.h"
 
 extern char** environ;
 

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
-#include "json.h"
-#include "options.h"
+#include "common/image.h"
+#include "common/json.h"
+#include "pathtracer/options.h"
 
 namespace pt::viewer {
 

@@ -1,11 +1,11 @@
 // The scene's camera (see camera_reader.h).
-#include "camera_reader.h"
+#include "common/collada/camera_reader.h"
 
 #include <cmath>
 #include <string>
 
-#include "camera.h"
-#include "xml_values.h"
+#include "common/camera.h"
+#include "common/collada/xml_values.h"
 
 namespace pt::collada {
 

@@ -3,10 +3,10 @@
 // the walk from the bounds of all geometry by the course's rule, or the
 // documented fallback when the scene has no camera.
 #pragma once
-#include "document.h"
-#include "mat4.h"
-#include "messages.h"
-#include "scene.h"
+#include "common/collada/document.h"
+#include "common/mat4.h"
+#include "common/collada/messages.h"
+#include "common/scene.h"
 
 namespace pt::collada {
 

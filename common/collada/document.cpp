@@ -1,5 +1,5 @@
 // The parsed COLLADA document (see document.h).
-#include "document.h"
+#include "common/collada/document.h"
 
 #include <cerrno>
 #include <cstring>
@@ -9,7 +9,7 @@
 #include <system_error>
 #include <vector>
 
-#include "xml_values.h"
+#include "common/collada/xml_values.h"
 
 namespace pt::collada {
 

@@ -6,8 +6,8 @@
 #include <string_view>
 #include <unordered_map>
 
-#include "mat4.h"
-#include "messages.h"
+#include "common/mat4.h"
+#include "common/collada/messages.h"
 
 namespace pt::collada {
 

@@ -1,13 +1,13 @@
 // Geometry (see geometry_reader.h).
-#include "geometry_reader.h"
+#include "common/collada/geometry_reader.h"
 
 #include <cmath>
 #include <cstring>
 #include <string>
 
-#include "mesh_builder.h"
-#include "primitive_lists.h"
-#include "xml_values.h"
+#include "common/collada/mesh_builder.h"
+#include "common/collada/primitive_lists.h"
+#include "common/collada/xml_values.h"
 
 namespace pt::collada {
 

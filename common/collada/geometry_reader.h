@@ -4,12 +4,12 @@
 #pragma once
 #include <vector>
 
-#include "document.h"
-#include "mat4.h"
-#include "material_reader.h"
-#include "mesh_sources.h"
-#include "messages.h"
-#include "scene.h"
+#include "common/collada/document.h"
+#include "common/mat4.h"
+#include "common/collada/material_reader.h"
+#include "common/collada/mesh_sources.h"
+#include "common/collada/messages.h"
+#include "common/scene.h"
 
 namespace pt::collada {
 

@@ -1,11 +1,11 @@
 // Lights (see light_reader.h).
-#include "light_reader.h"
+#include "common/collada/light_reader.h"
 
 #include <limits>
 #include <string>
 #include <string_view>
 
-#include "xml_values.h"
+#include "common/collada/xml_values.h"
 
 namespace pt::collada {
 

@@ -4,10 +4,10 @@
 #pragma once
 #include <optional>
 
-#include "document.h"
-#include "mat4.h"
-#include "messages.h"
-#include "scene.h"
+#include "common/collada/document.h"
+#include "common/mat4.h"
+#include "common/collada/messages.h"
+#include "common/scene.h"
 
 namespace pt::collada {
 

@@ -1,11 +1,11 @@
 // Materials (see material_reader.h).
-#include "material_reader.h"
+#include "common/collada/material_reader.h"
 
 #include <cstring>
 #include <limits>
 #include <string_view>
 
-#include "xml_values.h"
+#include "common/collada/xml_values.h"
 
 namespace pt::collada {
 

@@ -6,9 +6,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "document.h"
-#include "messages.h"
-#include "scene.h"
+#include "common/collada/document.h"
+#include "common/collada/messages.h"
+#include "common/scene.h"
 
 namespace pt::collada {
 

@@ -1,11 +1,11 @@
 // Building a mesh's renderable triangles (see mesh_builder.h).
-#include "mesh_builder.h"
+#include "common/collada/mesh_builder.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
-#include "collada.h"
+#include "common/collada.h"
 
 namespace pt::collada {
 

@@ -9,9 +9,9 @@
 #include <optional>
 #include <vector>
 
-#include "mat4.h"
-#include "scene.h"
-#include "vec3.h"
+#include "common/mat4.h"
+#include "common/scene.h"
+#include "common/vec3.h"
 
 namespace pt::collada {
 

@@ -1,5 +1,5 @@
 // A mesh's <source> data (see mesh_sources.h).
-#include "mesh_sources.h"
+#include "common/collada/mesh_sources.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "xml_values.h"
+#include "common/collada/xml_values.h"
 
 namespace pt::collada {
 

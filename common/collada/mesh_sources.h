@@ -6,8 +6,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "document.h"
-#include "messages.h"
+#include "common/collada/document.h"
+#include "common/collada/messages.h"
 
 namespace pt::collada {
 

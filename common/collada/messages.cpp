@@ -1,10 +1,10 @@
 // The loader's errors and warnings (see messages.h).
-#include "messages.h"
+#include "common/collada/messages.h"
 
 #include <algorithm>
 #include <sstream>
 
-#include "collada.h"
+#include "common/collada.h"
 
 namespace pt::collada {
 

@@ -10,7 +10,7 @@
 
 #include <tinyxml2.h>
 
-#include "vec3.h"
+#include "common/vec3.h"
 
 namespace pt::collada {
 

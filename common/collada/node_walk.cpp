@@ -1,12 +1,12 @@
 // The node walk (see node_walk.h).
-#include "node_walk.h"
+#include "common/collada/node_walk.h"
 
 #include <cmath>
 #include <cstring>
 #include <string>
 
-#include "light_reader.h"
-#include "xml_values.h"
+#include "common/collada/light_reader.h"
+#include "common/collada/xml_values.h"
 
 namespace pt::collada {
 

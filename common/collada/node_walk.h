@@ -7,12 +7,12 @@
 #pragma once
 #include <vector>
 
-#include "camera_reader.h"
-#include "document.h"
-#include "geometry_reader.h"
-#include "mat4.h"
-#include "messages.h"
-#include "scene.h"
+#include "common/collada/camera_reader.h"
+#include "common/collada/document.h"
+#include "common/collada/geometry_reader.h"
+#include "common/mat4.h"
+#include "common/collada/messages.h"
+#include "common/scene.h"
 
 namespace pt::collada {
 

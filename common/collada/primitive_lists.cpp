@@ -1,5 +1,5 @@
 // The primitive readers (see primitive_lists.h).
-#include "primitive_lists.h"
+#include "common/collada/primitive_lists.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -9,8 +9,8 @@
 #include <string_view>
 #include <vector>
 
-#include "collada.h"
-#include "xml_values.h"
+#include "common/collada.h"
+#include "common/collada/xml_values.h"
 
 namespace pt::collada {
 

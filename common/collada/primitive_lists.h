@@ -6,10 +6,10 @@
 #include <cstddef>
 #include <functional>
 
-#include "document.h"
-#include "mesh_builder.h"
-#include "mesh_sources.h"
-#include "messages.h"
+#include "common/collada/document.h"
+#include "common/collada/mesh_builder.h"
+#include "common/collada/mesh_sources.h"
+#include "common/collada/messages.h"
 
 namespace pt::collada {
 

@@ -1,5 +1,5 @@
 // Values written as XML text (see xml_values.h).
-#include "xml_values.h"
+#include "common/collada/xml_values.h"
 
 #include <limits>
 

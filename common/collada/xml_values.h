@@ -11,7 +11,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "messages.h"
+#include "common/collada/messages.h"
 
 namespace pt::collada {
 

@@ -1,4 +1,4 @@
-#include "case_list.h"
+#include "grader/src/case_list.h"
 
 #include <cctype>
 #include <cstdint>

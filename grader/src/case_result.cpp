@@ -1,4 +1,4 @@
-#include "case_result.h"
+#include "grader/src/case_result.h"
 
 #include <filesystem>
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "case_list.h"
-#include "json.h"
+#include "grader/src/case_list.h"
+#include "common/json.h"
 
 namespace grader {
 

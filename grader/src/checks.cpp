@@ -1,10 +1,10 @@
-#include "checks.h"
+#include "grader/src/checks.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "text.h"
+#include "grader/src/text.h"
 
 namespace grader {
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "json.h"
-#include "run_case.h"
-#include "scoring.h"
+#include "common/json.h"
+#include "grader/src/run_case.h"
+#include "grader/src/scoring.h"
 
 namespace grader {
 

@@ -7,11 +7,11 @@
 #include <mutex>
 #include <sstream>
 
-#include "clock.h"
-#include "commands.h"
-#include "grade.h"
-#include "reference.h"
-#include "text.h"
+#include "common/clock.h"
+#include "grader/src/commands.h"
+#include "grader/src/grade.h"
+#include "grader/src/reference.h"
+#include "grader/src/text.h"
 
 namespace grader {
 namespace cli {

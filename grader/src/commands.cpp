@@ -1,4 +1,4 @@
-#include "commands.h"
+#include "grader/src/commands.h"
 
 #include <unistd.h>
 
@@ -9,12 +9,12 @@
 #include <set>
 #include <sstream>
 
-#include "clock.h"
-#include "compare.h"
-#include "grade.h"
-#include "image_io.h"
-#include "reports.h"
-#include "text.h"
+#include "common/clock.h"
+#include "grader/src/compare.h"
+#include "grader/src/grade.h"
+#include "common/image_io.h"
+#include "grader/src/reports.h"
+#include "grader/src/text.h"
 
 namespace grader {
 namespace cli {

@@ -11,9 +11,9 @@
 #include <thread>
 #include <vector>
 
-#include "case_list.h"
-#include "case_result.h"
-#include "run_case.h"
+#include "grader/src/case_list.h"
+#include "grader/src/case_result.h"
+#include "grader/src/run_case.h"
 
 namespace grader {
 namespace cli {

@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "commands.h"
-#include "reference.h"
+#include "grader/src/commands.h"
+#include "grader/src/reference.h"
 
 namespace grader {
 namespace cli {

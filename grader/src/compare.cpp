@@ -1,4 +1,4 @@
-#include "compare.h"
+#include "grader/src/compare.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,12 +6,12 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "grade.h"
-#include "image_files.h"
-#include "image_io.h"
-#include "pictures.h"
-#include "reference.h"
-#include "text.h"
+#include "grader/src/grade.h"
+#include "grader/src/image_files.h"
+#include "common/image_io.h"
+#include "grader/src/pictures.h"
+#include "grader/src/reference.h"
+#include "grader/src/text.h"
 
 namespace grader {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "case_list.h"
+#include "grader/src/case_list.h"
 
 namespace grader {
 

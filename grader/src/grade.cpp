@@ -1,9 +1,9 @@
-#include "grade.h"
+#include "grader/src/grade.h"
 
 #include <algorithm>
 #include <map>
 
-#include "pictures.h"
+#include "grader/src/pictures.h"
 
 namespace grader {
 

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "case_list.h"
-#include "case_result.h"
-#include "checks.h"
-#include "reference.h"
-#include "run_case.h"
+#include "grader/src/case_list.h"
+#include "grader/src/case_result.h"
+#include "grader/src/checks.h"
+#include "grader/src/reference.h"
+#include "grader/src/run_case.h"
 
 namespace grader {
 

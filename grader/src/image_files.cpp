@@ -1,10 +1,10 @@
-#include "image_files.h"
+#include "grader/src/image_files.h"
 
 #include <lodepng.h>
 
 #include <stdexcept>
 
-#include "image_io.h"
+#include "common/image_io.h"
 
 namespace grader {
 

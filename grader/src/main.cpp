@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
-#include "commands.h"
+#include "grader/src/commands.h"
 
 using namespace grader::cli;
 

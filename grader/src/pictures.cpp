@@ -1,10 +1,10 @@
-#include "pictures.h"
+#include "grader/src/pictures.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "image_files.h"
-#include "image_io.h"
+#include "grader/src/image_files.h"
+#include "common/image_io.h"
 
 namespace grader {
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "scoring.h"
+#include "grader/src/scoring.h"
 
 namespace grader {
 

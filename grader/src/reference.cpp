@@ -1,4 +1,4 @@
-#include "reference.h"
+#include "grader/src/reference.h"
 
 #include <algorithm>
 #include <atomic>
@@ -9,9 +9,9 @@
 #include <thread>
 #include <vector>
 
-#include "clock.h"
-#include "image_io.h"
-#include "text.h"
+#include "common/clock.h"
+#include "common/image_io.h"
+#include "grader/src/text.h"
 
 namespace grader {
 

@@ -8,10 +8,10 @@
 #pragma once
 #include <string>
 
-#include "case_list.h"
-#include "json.h"
-#include "run_case.h"
-#include "scoring.h"
+#include "grader/src/case_list.h"
+#include "common/json.h"
+#include "grader/src/run_case.h"
+#include "grader/src/scoring.h"
 
 namespace grader {
 

@@ -1,4 +1,4 @@
-#include "reports.h"
+#include "grader/src/reports.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,8 +6,8 @@
 #include <map>
 #include <sstream>
 
-#include "image_io.h"
-#include "text.h"
+#include "common/image_io.h"
+#include "grader/src/text.h"
 
 namespace grader {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "grade.h"
+#include "grader/src/grade.h"
 
 namespace grader {
 

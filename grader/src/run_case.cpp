@@ -1,12 +1,12 @@
-#include "run_case.h"
+#include "grader/src/run_case.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
-#include "image_files.h"
-#include "image_io.h"
+#include "grader/src/image_files.h"
+#include "common/image_io.h"
 
 namespace grader {
 

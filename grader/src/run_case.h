@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "case_list.h"
-#include "child_process.h"
-#include "json.h"
-#include "scoring.h"
+#include "grader/src/case_list.h"
+#include "grader/src/child_process.h"
+#include "common/json.h"
+#include "grader/src/scoring.h"
 
 namespace grader {
 

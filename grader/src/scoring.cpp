@@ -1,4 +1,4 @@
-#include "scoring.h"
+#include "grader/src/scoring.h"
 
 #include <algorithm>
 #include <cmath>

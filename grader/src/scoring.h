@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
+#include "common/image.h"
 
 namespace grader {
 

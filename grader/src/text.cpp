@@ -1,10 +1,10 @@
-#include "text.h"
+#include "grader/src/text.h"
 
 #include <cstdio>
 #include <ctime>
 #include <vector>
 
-#include "image_io.h"
+#include "common/image_io.h"
 
 namespace grader {
 

@@ -26,14 +26,14 @@
 #include <thread>
 #include <vector>
 
-#include "brute_force.h"
-#include "bvh.h"
-#include "collada.h"
-#include "options.h"
-#include "ray_files.h"
-#include "ray_sets.h"
-#include "render_job.h"
-#include "stats.h"
+#include "stages/part1_raytracing/brute_force.h"
+#include "stages/part2_bvh/bvh.h"
+#include "common/collada.h"
+#include "pathtracer/options.h"
+#include "instructors/bench/ray_files.h"
+#include "instructors/bench/ray_sets.h"
+#include "pathtracer/render_job.h"
+#include "common/stats.h"
 
 namespace {
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "ray.h"
-#include "scene.h"
+#include "common/ray.h"
+#include "common/scene.h"
 
 namespace pt::bench {
 

@@ -1,13 +1,13 @@
-#include "ray_sets.h"
+#include "instructors/bench/ray_sets.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-#include "camera_rays.h"
-#include "math_constants.h"
-#include "rng.h"
+#include "stages/part1_raytracing/camera_rays.h"
+#include "common/math_constants.h"
+#include "common/rng.h"
 
 namespace pt::bench {
 

@@ -12,9 +12,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "intersector.h"
-#include "ray_files.h"
-#include "scene.h"
+#include "common/intersector.h"
+#include "instructors/bench/ray_files.h"
+#include "common/scene.h"
 
 namespace pt::bench {
 

@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-#include "support.h"
+#include "tests/support.h"
 
 namespace fs = std::filesystem;
 

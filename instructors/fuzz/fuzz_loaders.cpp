@@ -56,11 +56,11 @@
 #include <typeinfo>
 #include <vector>
 
-#include "bvh.h"
-#include "camera.h"
-#include "collada.h"
-#include "environment.h"
-#include "scene.h"
+#include "stages/part2_bvh/bvh.h"
+#include "common/camera.h"
+#include "common/collada.h"
+#include "common/environment.h"
+#include "common/scene.h"
 
 namespace fs = std::filesystem;
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "scene_model.h"
+#include "instructors/scene_generator/scene_model.h"
 
 namespace scenegen {
 

@@ -34,12 +34,12 @@
 #include <string>
 #include <vector>
 
-#include "collada_writer.h"
-#include "decimate.h"
-#include "mesh_tools.h"
-#include "scene_model.h"
-#include "sources.h"
-#include "teapot.h"
+#include "instructors/scene_generator/collada_writer.h"
+#include "instructors/scene_generator/decimate.h"
+#include "instructors/scene_generator/mesh_tools.h"
+#include "instructors/scene_generator/scene_model.h"
+#include "instructors/scene_generator/sources.h"
+#include "instructors/scene_generator/teapot.h"
 
 #ifndef PT_SCENE_MANIFEST
 #error "PT_SCENE_MANIFEST (the path of sources.txt) must be defined by the build"

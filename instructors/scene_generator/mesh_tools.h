@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "common/math_constants.h"
-#include "scene_model.h"
+#include "instructors/scene_generator/scene_model.h"
 
 namespace scenegen {
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "sha256.h"
+#include "instructors/scene_generator/sha256.h"
 
 namespace scenegen {
 

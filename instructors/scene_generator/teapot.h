@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh_tools.h"
+#include "instructors/scene_generator/mesh_tools.h"
 
 namespace scenegen {
 

@@ -1,8 +1,8 @@
-#include "brute_force.h"
+#include "stages/part1_raytracing/brute_force.h"
 
-#include "sphere.h"
-#include "stats.h"
-#include "triangle.h"
+#include "stages/part1_raytracing/sphere.h"
+#include "common/stats.h"
+#include "stages/part1_raytracing/triangle.h"
 
 namespace pt {
 

@@ -2,8 +2,8 @@
 // (no acceleration structure yet), and what a BVH that is not written yet
 // falls back on.
 #pragma once
-#include "intersector.h"
-#include "scene.h"
+#include "common/intersector.h"
+#include "common/scene.h"
 
 namespace pt {
 

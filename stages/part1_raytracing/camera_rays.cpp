@@ -1,9 +1,9 @@
-#include "camera_rays.h"
+#include "stages/part1_raytracing/camera_rays.h"
 
 #include <cmath>
 
-#include "math_constants.h"
-#include "todo.h"
+#include "common/math_constants.h"
+#include "common/todo.h"
 
 namespace pt {
 

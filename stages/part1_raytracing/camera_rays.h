@@ -1,7 +1,7 @@
 // Part 1, task 1: camera rays.
 #pragma once
-#include "camera.h"
-#include "ray.h"
+#include "common/camera.h"
+#include "common/ray.h"
 
 namespace pt {
 

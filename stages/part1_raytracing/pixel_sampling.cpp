@@ -1,7 +1,7 @@
-#include "pixel_sampling.h"
+#include "stages/part1_raytracing/pixel_sampling.h"
 
-#include "camera_rays.h"
-#include "todo.h"
+#include "stages/part1_raytracing/camera_rays.h"
+#include "common/todo.h"
 
 namespace pt {
 

@@ -3,9 +3,9 @@
 #include <cstdint>
 #include <functional>
 
-#include "camera.h"
-#include "ray.h"
-#include "rng.h"
+#include "common/camera.h"
+#include "common/ray.h"
+#include "common/rng.h"
 
 namespace pt {
 

@@ -1,4 +1,4 @@
-#include "shading.h"
+#include "stages/part1_raytracing/shading.h"
 
 namespace pt {
 

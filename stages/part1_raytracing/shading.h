@@ -1,7 +1,7 @@
 // Shading used before lighting exists (parts 1 and 2): the surface normal
 // mapped to a colour.
 #pragma once
-#include "intersector.h"
+#include "common/intersector.h"
 
 namespace pt {
 

@@ -1,9 +1,9 @@
-#include "sphere.h"
+#include "stages/part1_raytracing/sphere.h"
 
 #include <cmath>
 #include <limits>
 
-#include "todo.h"
+#include "common/todo.h"
 
 namespace pt {
 

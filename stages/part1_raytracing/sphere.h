@@ -1,7 +1,7 @@
 // Part 1, task 4: ray-sphere intersection.
 #pragma once
-#include "ray.h"
-#include "scene.h"
+#include "common/ray.h"
+#include "common/scene.h"
 
 namespace pt {
 

@@ -1,8 +1,8 @@
-#include "triangle.h"
+#include "stages/part1_raytracing/triangle.h"
 
 #include <cmath>
 
-#include "todo.h"
+#include "common/todo.h"
 
 namespace pt {
 

@@ -1,7 +1,7 @@
 // Part 1, task 3: ray-triangle intersection.
 #pragma once
-#include "ray.h"
-#include "scene.h"
+#include "common/ray.h"
+#include "common/scene.h"
 
 namespace pt {
 

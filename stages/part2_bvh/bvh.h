@@ -10,10 +10,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "intersector.h"
-#include "scene.h"
+#include "common/intersector.h"
+#include "common/scene.h"
 // BEGIN SOLUTION
-#include "bvh_wide.h"
+#include "stages/part2_bvh/bvh_wide.h"
 // END SOLUTION
 
 namespace pt {

@@ -18,7 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "bbox.h"
+#include "common/bbox.h"
 
 #if !defined(__SSE2__)
 #error "the reference BVH builder (bvh_binning.h) needs SSE2: build for x86-64"

@@ -5,11 +5,11 @@
 #include <cmath>
 #include <thread>
 
-#include "bvh.h"
+#include "stages/part2_bvh/bvh.h"
 // BEGIN SOLUTION
-#include "bvh_binning.h"
+#include "stages/part2_bvh/bvh_binning.h"
 // END SOLUTION
-#include "todo.h"
+#include "common/todo.h"
 
 namespace pt {
 

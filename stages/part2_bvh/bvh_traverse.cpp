@@ -2,16 +2,16 @@
 #include <algorithm>
 #include <cmath>
 
-#include "brute_force.h"
-#include "bvh.h"
-#include "slab_test.h"
+#include "stages/part1_raytracing/brute_force.h"
+#include "stages/part2_bvh/bvh.h"
+#include "stages/part2_bvh/slab_test.h"
 // BEGIN SOLUTION
-#include "bvh_wide.h"
+#include "stages/part2_bvh/bvh_wide.h"
 // END SOLUTION
-#include "sphere.h"
-#include "stats.h"
-#include "todo.h"
-#include "triangle.h"
+#include "stages/part1_raytracing/sphere.h"
+#include "common/stats.h"
+#include "common/todo.h"
+#include "stages/part1_raytracing/triangle.h"
 
 namespace pt {
 

@@ -39,9 +39,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "bbox.h"
-#include "ray.h"
-#include "scene.h"
+#include "common/bbox.h"
+#include "common/ray.h"
+#include "common/scene.h"
 
 // SSE2 is part of x86-64, the project's baseline.
 #if !defined(__SSE2__)

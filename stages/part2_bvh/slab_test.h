@@ -1,6 +1,6 @@
 // Part 2, task 2: does a ray's interval meet a box?
 #pragma once
-#include "vec3.h"
+#include "common/vec3.h"
 
 namespace pt {
 

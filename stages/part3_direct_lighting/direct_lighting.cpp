@@ -1,12 +1,12 @@
-#include "direct_lighting.h"
+#include "stages/part3_direct_lighting/direct_lighting.h"
 
 #include <algorithm>
 
-#include "bsdf.h"
-#include "frame.h"
-#include "lights.h"
-#include "path_recorder.h"
-#include "todo.h"
+#include "common/bsdf.h"
+#include "common/frame.h"
+#include "common/lights.h"
+#include "common/path_recorder.h"
+#include "common/todo.h"
 
 namespace pt {
 

@@ -1,10 +1,10 @@
 // Part 3: direct lighting, by uniform hemisphere sampling (-H) and by
 // sampling the lights (importance sampling).
 #pragma once
-#include "intersector.h"
-#include "ray.h"
-#include "rng.h"
-#include "scene.h"
+#include "common/intersector.h"
+#include "common/ray.h"
+#include "common/rng.h"
+#include "common/scene.h"
 
 namespace pt {
 

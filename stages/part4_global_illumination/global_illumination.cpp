@@ -1,10 +1,10 @@
-#include "global_illumination.h"
+#include "stages/part4_global_illumination/global_illumination.h"
 
-#include "bsdf.h"
-#include "frame.h"
-#include "lights.h"
-#include "path_recorder.h"
-#include "todo.h"
+#include "common/bsdf.h"
+#include "common/frame.h"
+#include "common/lights.h"
+#include "common/path_recorder.h"
+#include "common/todo.h"
 
 namespace pt {
 

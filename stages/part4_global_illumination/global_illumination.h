@@ -1,7 +1,7 @@
 // Part 4: global illumination: paths of many bounces, ended by Russian
 // roulette.
 #pragma once
-#include "direct_lighting.h"
+#include "stages/part3_direct_lighting/direct_lighting.h"
 
 namespace pt {
 

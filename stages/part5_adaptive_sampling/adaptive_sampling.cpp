@@ -1,8 +1,8 @@
-#include "adaptive_sampling.h"
+#include "stages/part5_adaptive_sampling/adaptive_sampling.h"
 
 #include <cmath>
 
-#include "todo.h"
+#include "common/todo.h"
 
 namespace pt {
 

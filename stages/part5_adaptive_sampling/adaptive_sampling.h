@@ -3,7 +3,7 @@
 #pragma once
 #include <cstdint>
 
-#include "pixel_sampling.h"
+#include "stages/part1_raytracing/pixel_sampling.h"
 
 namespace pt {
 

@@ -13,8 +13,8 @@
 #include <set>
 #include <sstream>
 
-#include "image_io.h"
-#include "support.h"
+#include "common/image_io.h"
+#include "tests/support.h"
 
 using namespace pt;
 using test::run_pathtracer;

@@ -1,12 +1,12 @@
 // Small COLLADA documents for the loader's tests (see collada_documents.h).
-#include "collada_documents.h"
+#include "tests/common/collada_documents.h"
 
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <sstream>
 
-#include "support.h"
+#include "tests/support.h"
 
 namespace pt::test::dae {
 

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "collada.h"
+#include "common/collada.h"
 
 namespace pt::test::dae {
 

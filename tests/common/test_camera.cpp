@@ -2,8 +2,8 @@
 // placement, and the -c settings file.
 #include <catch2/catch.hpp>
 
-#include "camera.h"
-#include "support.h"
+#include "common/camera.h"
+#include "tests/support.h"
 
 using namespace pt;
 

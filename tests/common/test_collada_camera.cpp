@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "camera.h"
-#include "collada_documents.h"
-#include "math_constants.h"
+#include "common/camera.h"
+#include "tests/common/collada_documents.h"
+#include "common/math_constants.h"
 
 using Catch::Matchers::Contains;
 using namespace pt::test::dae;

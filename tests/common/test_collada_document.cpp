@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "collada_documents.h"
-#include "support.h"
+#include "tests/common/collada_documents.h"
+#include "tests/support.h"
 
 using Catch::Matchers::Contains;
 using namespace pt::test::dae;

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "collada_documents.h"
+#include "tests/common/collada_documents.h"
 
 using namespace pt::test::dae;
 

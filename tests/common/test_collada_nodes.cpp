@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "collada_documents.h"
+#include "tests/common/collada_documents.h"
 
 using Catch::Matchers::Contains;
 using namespace pt::test::dae;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "collada_documents.h"
+#include "tests/common/collada_documents.h"
 
 using Catch::Matchers::Contains;
 using namespace pt::test::dae;

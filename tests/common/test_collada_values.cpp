@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "collada_documents.h"
+#include "tests/common/collada_documents.h"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;

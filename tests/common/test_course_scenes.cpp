@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "collada.h"
-#include "support.h"
+#include "common/collada.h"
+#include "tests/support.h"
 
 namespace {
 

@@ -15,12 +15,12 @@
 #include <iterator>
 #include <limits>
 
-#include "brute_force.h"
-#include "direct_lighting.h"
-#include "environment.h"
-#include "lights.h"
-#include "image_io.h"
-#include "support.h"
+#include "stages/part1_raytracing/brute_force.h"
+#include "stages/part3_direct_lighting/direct_lighting.h"
+#include "common/environment.h"
+#include "common/lights.h"
+#include "common/image_io.h"
+#include "tests/support.h"
 
 using namespace pt;
 

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <limits>
 
-#include "image_io.h"
-#include "support.h"
+#include "common/image_io.h"
+#include "tests/support.h"
 
 using namespace pt;
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "collada/mesh_builder.h"
+#include "common/collada/mesh_builder.h"
 
 using pt::collada::MeshTriangles;
 using pt::collada::TriangleIndices;

@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 #include <set>
 
-#include "rng.h"
+#include "common/rng.h"
 
 using namespace pt;
 

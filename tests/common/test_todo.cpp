@@ -5,7 +5,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "todo.h"
+#include "common/todo.h"
 
 using namespace pt;
 

@@ -23,17 +23,17 @@
 #include <string>
 #include <vector>
 
-#include "collada.h"
-#include "debugger.h"
-#include "direct_lighting.h"
-#include "global_illumination.h"
-#include "json.h"
-#include "path_recorder.h"
-#include "pixel_sampling.h"
-#include "render_job.h"
-#include "statistics/analytic_scenes.h"
-#include "support.h"
-#include "todo.h"
+#include "common/collada.h"
+#include "viewer/debugger/debugger.h"
+#include "stages/part3_direct_lighting/direct_lighting.h"
+#include "stages/part4_global_illumination/global_illumination.h"
+#include "common/json.h"
+#include "common/path_recorder.h"
+#include "stages/part1_raytracing/pixel_sampling.h"
+#include "pathtracer/render_job.h"
+#include "tests/statistics/analytic_scenes.h"
+#include "tests/support.h"
+#include "common/todo.h"
 
 using namespace pt;
 using namespace pt::test;

@@ -16,15 +16,15 @@
 #include <string>
 #include <vector>
 
-#include "bvh.h"
-#include "collada.h"
-#include "debugger.h"
-#include "direct_lighting.h"
-#include "json.h"
-#include "json_values.h"
-#include "sphere.h"
-#include "support.h"
-#include "triangle.h"
+#include "stages/part2_bvh/bvh.h"
+#include "common/collada.h"
+#include "viewer/debugger/debugger.h"
+#include "stages/part3_direct_lighting/direct_lighting.h"
+#include "common/json.h"
+#include "viewer/debugger/json_values.h"
+#include "stages/part1_raytracing/sphere.h"
+#include "tests/support.h"
+#include "stages/part1_raytracing/triangle.h"
 
 using namespace pt;
 using namespace pt::test;

@@ -10,14 +10,14 @@
 #include <limits>
 #include <sstream>
 
-#include "case_result.h"
-#include "checks.h"
-#include "image_io.h"
-#include "json.h"
-#include "render_job.h"
-#include "reports.h"
-#include "strict_json.h"
-#include "support.h"
+#include "grader/src/case_result.h"
+#include "grader/src/checks.h"
+#include "common/image_io.h"
+#include "common/json.h"
+#include "pathtracer/render_job.h"
+#include "grader/src/reports.h"
+#include "tests/grader/strict_json.h"
+#include "tests/support.h"
 
 using namespace grader;
 using pt::test::JsonValue;

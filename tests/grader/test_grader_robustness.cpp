@@ -34,9 +34,9 @@
 #include <utility>
 #include <vector>
 
-#include "strict_json.h"
-#include "image_io.h"
-#include "support.h"
+#include "tests/grader/strict_json.h"
+#include "common/image_io.h"
+#include "tests/support.h"
 
 extern char** environ;
 

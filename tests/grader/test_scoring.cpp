@@ -6,14 +6,14 @@
 #include <random>
 #include <sstream>
 
-#include "case_list.h"
-#include "grade.h"
-#include "reports.h"
-#include "image_files.h"
-#include "image_io.h"
-#include "json.h"
-#include "scoring.h"
-#include "support.h"
+#include "grader/src/case_list.h"
+#include "grader/src/grade.h"
+#include "grader/src/reports.h"
+#include "grader/src/image_files.h"
+#include "common/image_io.h"
+#include "common/json.h"
+#include "grader/src/scoring.h"
+#include "tests/support.h"
 
 using namespace grader;
 

@@ -1,7 +1,7 @@
 // Part 1, task 1: generate_ray.
 #include <catch2/catch.hpp>
 
-#include "camera_rays.h"
+#include "stages/part1_raytracing/camera_rays.h"
 
 using namespace pt;
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "sphere.h"
-#include "triangle.h"
+#include "stages/part1_raytracing/sphere.h"
+#include "stages/part1_raytracing/triangle.h"
 
 using namespace pt;
 

@@ -3,11 +3,11 @@
 #include <catch2/catch.hpp>
 #include <cstring>
 
-#include "brute_force.h"
-#include "pixel_sampling.h"
-#include "camera_rays.h"
-#include "render_job.h"
-#include "shading.h"
+#include "stages/part1_raytracing/brute_force.h"
+#include "stages/part1_raytracing/pixel_sampling.h"
+#include "stages/part1_raytracing/camera_rays.h"
+#include "pathtracer/render_job.h"
+#include "stages/part1_raytracing/shading.h"
 
 using namespace pt;
 

@@ -2,12 +2,12 @@
 #include <catch2/catch.hpp>
 #include <functional>
 
-#include "brute_force.h"
-#include "bvh.h"
-#include "collada.h"
-#include "rng.h"
-#include "stats.h"
-#include "support.h"
+#include "stages/part1_raytracing/brute_force.h"
+#include "stages/part2_bvh/bvh.h"
+#include "common/collada.h"
+#include "common/rng.h"
+#include "common/stats.h"
+#include "tests/support.h"
 
 using namespace pt;
 

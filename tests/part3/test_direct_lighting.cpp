@@ -52,17 +52,17 @@
 #include <string>
 #include <vector>
 
-#include "brute_force.h"
-#include "bvh.h"
-#include "camera_rays.h"
-#include "collada.h"
-#include "direct_lighting.h"
-#include "frame.h"
-#include "render_job.h"
-#include "samplers.h"
-#include "statistics/analytic_scenes.h"
-#include "statistics/hypothesis_tests.h"
-#include "support.h"
+#include "stages/part1_raytracing/brute_force.h"
+#include "stages/part2_bvh/bvh.h"
+#include "stages/part1_raytracing/camera_rays.h"
+#include "common/collada.h"
+#include "stages/part3_direct_lighting/direct_lighting.h"
+#include "common/frame.h"
+#include "pathtracer/render_job.h"
+#include "common/samplers.h"
+#include "tests/statistics/analytic_scenes.h"
+#include "tests/statistics/hypothesis_tests.h"
+#include "tests/support.h"
 
 using namespace pt;
 using namespace pt::test;

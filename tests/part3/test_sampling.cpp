@@ -33,15 +33,15 @@
 #include <functional>
 #include <vector>
 
-#include "bsdf.h"
-#include "frame.h"
-#include "lights.h"
-#include "rng.h"
-#include "samplers.h"
-#include "statistics/analytic_scenes.h"
-#include "statistics/direction_bins.h"
-#include "statistics/hypothesis_tests.h"
-#include "statistics/special_functions.h"
+#include "common/bsdf.h"
+#include "common/frame.h"
+#include "common/lights.h"
+#include "common/rng.h"
+#include "common/samplers.h"
+#include "tests/statistics/analytic_scenes.h"
+#include "tests/statistics/direction_bins.h"
+#include "tests/statistics/hypothesis_tests.h"
+#include "tests/statistics/special_functions.h"
 
 using namespace pt;
 using namespace pt::test;

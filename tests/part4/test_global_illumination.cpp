@@ -37,16 +37,16 @@
 #include <string>
 #include <vector>
 
-#include "collada.h"
-#include "bvh.h"
-#include "lights.h"
-#include "global_illumination.h"
-#include "render_job.h"
-#include "statistics/analytic_scenes.h"
-#include "statistics/hypothesis_tests.h"
-#include "statistics/special_functions.h"
-#include "stats.h"
-#include "support.h"
+#include "common/collada.h"
+#include "stages/part2_bvh/bvh.h"
+#include "common/lights.h"
+#include "stages/part4_global_illumination/global_illumination.h"
+#include "pathtracer/render_job.h"
+#include "tests/statistics/analytic_scenes.h"
+#include "tests/statistics/hypothesis_tests.h"
+#include "tests/statistics/special_functions.h"
+#include "common/stats.h"
+#include "tests/support.h"
 
 using namespace pt;
 using namespace pt::test;

@@ -16,10 +16,10 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "adaptive_sampling.h"
-#include "collada.h"
-#include "render_job.h"
-#include "support.h"
+#include "stages/part5_adaptive_sampling/adaptive_sampling.h"
+#include "common/collada.h"
+#include "pathtracer/render_job.h"
+#include "tests/support.h"
 
 using namespace pt;
 

@@ -17,11 +17,11 @@
 #include <tuple>
 #include <vector>
 
-#include "bvh.h"
-#include "collada.h"
-#include "image_io.h"
-#include "rng.h"
-#include "support.h"
+#include "stages/part2_bvh/bvh.h"
+#include "common/collada.h"
+#include "common/image_io.h"
+#include "common/rng.h"
+#include "tests/support.h"
 
 namespace {
 

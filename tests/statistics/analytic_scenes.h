@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "scene.h"
+#include "common/scene.h"
 
 namespace pt::test {
 

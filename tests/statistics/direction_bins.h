@@ -7,7 +7,7 @@
 #include <functional>
 #include <vector>
 
-#include "frame.h"
+#include "common/frame.h"
 
 namespace pt::test {
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
-#include "statistics/special_functions.h"
+#include "common/image.h"
+#include "tests/statistics/special_functions.h"
 
 namespace pt::test {
 

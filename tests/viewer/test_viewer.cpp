@@ -9,14 +9,14 @@
 #include <fstream>
 #include <string>
 
-#include "camera_file.h"
-#include "collada.h"
-#include "debug_api.h"
-#include "debugger.h"
-#include "json.h"
-#include "file_access.h"
-#include "render_job.h"
-#include "worker.h"
+#include "viewer/camera_file.h"
+#include "common/collada.h"
+#include "viewer/debug_api.h"
+#include "viewer/debugger/debugger.h"
+#include "common/json.h"
+#include "viewer/file_access.h"
+#include "pathtracer/render_job.h"
+#include "viewer/worker.h"
 
 namespace fs = std::filesystem;
 using namespace pt;

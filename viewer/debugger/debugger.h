@@ -17,11 +17,11 @@
 #include <string>
 #include <vector>
 
-#include "intersector.h"
-#include "json.h"
-#include "lights.h"
-#include "options.h"
-#include "scene.h"
+#include "common/intersector.h"
+#include "common/json.h"
+#include "common/lights.h"
+#include "pathtracer/options.h"
+#include "common/scene.h"
 
 namespace pt::debug {
 

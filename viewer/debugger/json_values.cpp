@@ -1,4 +1,4 @@
-#include "json_values.h"
+#include "viewer/debugger/json_values.h"
 
 #include <cmath>
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "json.h"
-#include "ray.h"
+#include "common/json.h"
+#include "common/ray.h"
 
 namespace pt::debug {
 

@@ -17,17 +17,17 @@
 #include <cstring>
 #include <set>
 
-#include "adaptive_sampling.h"
-#include "brute_force.h"
-#include "bsdf.h"
-#include "bvh.h"
-#include "debugger.h"
-#include "frame.h"
-#include "global_illumination.h"
-#include "json_values.h"
-#include "path_recorder.h"
-#include "pixel_sampling.h"
-#include "radiance.h"
+#include "stages/part5_adaptive_sampling/adaptive_sampling.h"
+#include "stages/part1_raytracing/brute_force.h"
+#include "common/bsdf.h"
+#include "stages/part2_bvh/bvh.h"
+#include "viewer/debugger/debugger.h"
+#include "common/frame.h"
+#include "stages/part4_global_illumination/global_illumination.h"
+#include "viewer/debugger/json_values.h"
+#include "common/path_recorder.h"
+#include "stages/part1_raytracing/pixel_sampling.h"
+#include "pathtracer/radiance.h"
 
 namespace pt::debug {
 

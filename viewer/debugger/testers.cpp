@@ -2,13 +2,13 @@
 #include <cmath>
 #include <set>
 
-#include "debugger.h"
-#include "direct_lighting.h"
-#include "json_values.h"
-#include "path_recorder.h"
-#include "rng.h"
-#include "sphere.h"
-#include "triangle.h"
+#include "viewer/debugger/debugger.h"
+#include "stages/part3_direct_lighting/direct_lighting.h"
+#include "viewer/debugger/json_values.h"
+#include "common/path_recorder.h"
+#include "common/rng.h"
+#include "stages/part1_raytracing/sphere.h"
+#include "stages/part1_raytracing/triangle.h"
 
 namespace pt::debug {
 

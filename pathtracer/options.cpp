@@ -97,39 +97,43 @@ std::string output_png_path(const RenderOptions& opts) {
   return std::filesystem::path(opts.scene_path).stem().string() + ".png";
 }
 
-std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
-  CLI::App app{
-      "pathtracer: the CS184 PathTracer reference renderer.\n"
-      "Renders a COLLADA scene (.dae) to a PNG. Flags follow the course's command line."};
-  app.get_formatter()->column_width(28);
-  app.set_help_flag("-h,--help", "Print this help and exit");
+namespace {
 
+// What the command line gives before it is checked and put into
+// RenderOptions.
+struct RawFlags {
   std::vector<int> res, cell;
   std::vector<std::string> adaptive;
   std::string seed_text;
   int accumulate = 1;
+  bool no_rr = false;
+  bool no_progress = false;
+};
 
+// The course's flags, then the ones this renderer adds (the README's flag
+// table lists the same, checked against -h by a test).
+void add_flags(CLI::App& app, RenderOptions* o, RawFlags* raw) {
   app.add_option("-s", o->samples_per_pixel, "Camera rays per pixel (the maximum with adaptive sampling)")
       ->check(CLI::Range(1, 1 << 20))->default_val(1);
   app.add_option("-l", o->light_samples, "Samples per area light")->check(CLI::Range(1, 1 << 16))->default_val(1);
   app.add_option("-t", o->threads, "Render threads")->check(CLI::Range(1, 1024))->default_val(1);
   app.add_option("-m", o->max_depth, "Maximum ray depth")->check(CLI::Range(0, 1 << 20))->default_val(1);
-  app.add_option("-o", accumulate, "Accumulate bounces: 1 sums bounces 0..m, 0 returns only the m-th")
+  app.add_option("-o", raw->accumulate, "Accumulate bounces: 1 sums bounces 0..m, 0 returns only the m-th")
       ->check(CLI::Range(0, 1 << 20))->default_val(1);
   app.add_option("-e", o->env_map, "Environment map (OpenEXR)");
   app.add_option("-b", o->lens_radius, "Thin-lens aperture radius")->check(finite_in(0.0, 1e6));
   app.add_option("-d", o->focal_distance, "Focal distance")->check(finite_in(1e-6, 1e9));
   app.add_option("-f", o->output_png, "Output PNG (default: <scene name>.png)");
-  app.add_option("-r", res, "Output width and height")->expected(2)->type_name("W H");
+  app.add_option("-r", raw->res, "Output width and height")->expected(2)->type_name("W H");
   app.add_option("-c", o->camera_settings, "Camera settings file");
-  app.add_option("-a", adaptive, "Adaptive sampling: samples per batch and tolerance")
+  app.add_option("-a", raw->adaptive, "Adaptive sampling: samples per batch and tolerance")
       ->expected(2)->type_name("B T");
   app.add_flag("-H", o->hemisphere_sampling, "Direct lighting by uniform hemisphere sampling");
-  app.add_option("-p", cell, "Render only the cell [X,X+DX) x [Y,Y+DY), (0,0) bottom-left")
+  app.add_option("-p", raw->cell, "Render only the cell [X,X+DX) x [Y,Y+DY), (0,0) bottom-left")
       ->expected(4)->type_name("X Y DX DY");
   app.add_option("--part", o->part, "Render what the assignment gives after part N (1-5)")
       ->check(CLI::Range(1, 5))->default_val(kPartsBuilt);
-  app.add_option("--seed", seed_text, "Image seed, 0 to 2^64-1 (renders are reproducible for a given seed)")
+  app.add_option("--seed", raw->seed_text, "Image seed, 0 to 2^64-1 (renders are reproducible for a given seed)")
       ->type_name("N");
   app.add_option("--pfm", o->output_pfm, "Also write linear radiance to this PFM file");
   app.add_option("--stats-json", o->stats_json, "Write the render's figures (times, rays, tests, largest radiance) as JSON");
@@ -141,16 +145,105 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
   app.add_option("--bvh-node", o->bvh_node,
                  "Draw BVH node N's box (white) and its children's (red, blue) over the PNG")
       ->check(CLI::Range(0LL, 1LL << 40))->type_name("N");
-  bool no_rr = false;
-  app.add_flag("--no-rr", no_rr, "Part 4: no Russian roulette, every path runs to -m bounces");
+  app.add_flag("--no-rr", raw->no_rr, "Part 4: no Russian roulette, every path runs to -m bounces");
   app.add_flag("--direct-only", o->direct_only, "Part 4: only emission and direct light (bounces 0 and 1)");
   app.add_flag("--indirect-only", o->indirect_only, "Part 4: only indirect light (bounces 2 to -m)");
   app.add_flag("--course-area-pdf", o->course_area_pdf,
                "Use the course's area-light pdf (off by the distance to the light) to reproduce its images");
-  bool no_progress = false;
-  app.add_flag("--no-progress", no_progress, "Never draw the progress bar");
+  app.add_flag("--no-progress", raw->no_progress, "Never draw the progress bar");
   app.add_option("scene", o->scene_path, "Scene file (.dae)")->required();
+}
 
+// -r W H into o; an error message, or "".
+std::string apply_size(const std::vector<int>& res, RenderOptions* o) {
+  if (res.empty()) return "";
+  if (res[0] < 1 || res[1] < 1 || res[0] > 16384 || res[1] > 16384)
+    return "-r: width and height must be between 1 and 16384, got " + std::to_string(res[0]) + " " +
+           std::to_string(res[1]);
+  if ((long long)res[0] * res[1] > kMaxImagePixels)
+    return "-r " + std::to_string(res[0]) + " " + std::to_string(res[1]) + ": the image would have " +
+           std::to_string((long long)res[0] * res[1]) + " pixels; at most " + std::to_string(kMaxImagePixels) +
+           " (e.g. 8192 x 4096) fit the renderer's memory limit";
+  o->width = res[0];
+  o->height = res[1];
+  return "";
+}
+
+// -a B T into o; an error message, or "".
+std::string apply_adaptive(const std::vector<std::string>& adaptive, RenderOptions* o) {
+  if (adaptive.empty()) return "";
+  try {
+    size_t u1 = 0, u2 = 0;
+    const int b = std::stoi(adaptive[0], &u1);
+    const double t = std::stod(adaptive[1], &u2);
+    if (u1 != adaptive[0].size() || u2 != adaptive[1].size()) throw std::invalid_argument("");
+    if (b < 1 || b > (1 << 20)) return "-a: samples per batch must be at least 1, got " + adaptive[0];
+    if (!(t > 0) || !std::isfinite(t)) return "-a: tolerance must be a positive number, got " + adaptive[1];
+    o->adaptive_batch = b;
+    o->adaptive_tolerance = t;
+    o->adaptive_set = true;
+  } catch (const std::exception&) {
+    return "-a: expected an integer batch size and a number, got '" + adaptive[0] + " " + adaptive[1] + "'";
+  }
+  return "";
+}
+
+// -p X Y DX DY into o (after -r: the cell must lie in the image); an error
+// message, or "".
+std::string apply_cell(const std::vector<int>& cell, RenderOptions* o) {
+  if (cell.empty()) return "";
+  // In 64 bits: X + DX must not wrap around.
+  const long long x = cell[0], y = cell[1], dx = cell[2], dy = cell[3];
+  if (x < 0 || y < 0 || dx < 1 || dy < 1 || x + dx > o->width || y + dy > o->height)
+    return "-p: the cell must lie inside the " + std::to_string(o->width) + "x" + std::to_string(o->height) +
+           " image and be at least 1x1";
+  o->cell_set = true;
+  o->cell_x = cell[0];
+  o->cell_y = cell[1];
+  o->cell_w = cell[2];
+  o->cell_h = cell[3];
+  return "";
+}
+
+// The checks across flags, and the flags' raw values into o, in the order
+// their messages are given; an error message, or "".
+std::string apply_flags(const CLI::App& app, const RawFlags& raw, RenderOptions* o) {
+  o->accumulate_bounces = raw.accumulate != 0;
+  o->russian_roulette = !raw.no_rr;
+  if (o->direct_only && o->indirect_only) return "--direct-only and --indirect-only exclude each other";
+  o->progress = !raw.no_progress;
+  o->lens_radius_set = app.count("-b") > 0;
+  o->focal_distance_set = app.count("-d") > 0;
+  // An empty path would otherwise mean "none" (-e) or fail late.
+  for (const auto& [flag, value] : {std::pair<const char*, const std::string*>{"-e", &o->env_map},
+                                    {"-f", &o->output_png}, {"-c", &o->camera_settings},
+                                    {"--pfm", &o->output_pfm}, {"--stats-json", &o->stats_json}})
+    if (app.count(flag) > 0 && value->empty()) return std::string(flag) + ": the path is empty";
+  if (o->scene_path.empty()) return "scene: the path is empty";
+  if (app.count("--seed") > 0 && !parse_seed(raw.seed_text, &o->seed))
+    return "--seed: expected an integer from 0 to 18446744073709551615, got '" + raw.seed_text + "'";
+  if (std::string e = apply_size(raw.res, o); !e.empty()) return e;
+  if (std::string e = apply_adaptive(raw.adaptive, o); !e.empty()) return e;
+  if (std::string e = apply_cell(raw.cell, o); !e.empty()) return e;
+  if ((o->bvh_boxes_depth >= 0 || o->bvh_node >= 0) && o->part < 2)
+    return std::string(o->bvh_boxes_depth >= 0 ? "--bvh-boxes" : "--bvh-node") +
+           " draws the BVH's boxes: it needs --part 2 or later (part 1 has no BVH)";
+  if (o->part > kPartsBuilt)
+    return "--part " + std::to_string(o->part) + ": this build implements parts 1 to " + std::to_string(kPartsBuilt) +
+           " only";
+  return path_conflict(*o);
+}
+
+}  // namespace
+
+std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
+  CLI::App app{
+      "pathtracer: the CS184 PathTracer reference renderer.\n"
+      "Renders a COLLADA scene (.dae) to a PNG. Flags follow the course's command line."};
+  app.get_formatter()->column_width(28);
+  app.set_help_flag("-h,--help", "Print this help and exit");
+  RawFlags raw;
+  add_flags(app, o, &raw);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -160,72 +253,10 @@ std::optional<int> parse_command_line(int argc, char** argv, RenderOptions* o) {
     std::fprintf(stderr, "pathtracer: error: %s (run 'pathtracer -h' for usage)\n", e.what());
     return 2;
   }
-
-  auto fail = [](const std::string& msg) {
-    std::fprintf(stderr, "pathtracer: error: %s\n", msg.c_str());
-    return std::optional<int>(2);
-  };
-  o->accumulate_bounces = accumulate != 0;
-  o->russian_roulette = !no_rr;
-  if (o->direct_only && o->indirect_only) return fail("--direct-only and --indirect-only exclude each other");
-  o->progress = !no_progress;
-  o->lens_radius_set = app.count("-b") > 0;
-  o->focal_distance_set = app.count("-d") > 0;
-  // An empty path would otherwise mean "none" (-e) or fail late.
-  for (const auto& [flag, value] : {std::pair<const char*, const std::string*>{"-e", &o->env_map},
-                                    {"-f", &o->output_png}, {"-c", &o->camera_settings},
-                                    {"--pfm", &o->output_pfm}, {"--stats-json", &o->stats_json}})
-    if (app.count(flag) > 0 && value->empty()) return fail(std::string(flag) + ": the path is empty");
-  if (o->scene_path.empty()) return fail("scene: the path is empty");
-  if (app.count("--seed") > 0 && !parse_seed(seed_text, &o->seed))
-    return fail("--seed: expected an integer from 0 to 18446744073709551615, got '" + seed_text + "'");
-  if (!res.empty()) {
-    if (res[0] < 1 || res[1] < 1 || res[0] > 16384 || res[1] > 16384)
-      return fail("-r: width and height must be between 1 and 16384, got " + std::to_string(res[0]) + " " +
-                  std::to_string(res[1]));
-    if ((long long)res[0] * res[1] > kMaxImagePixels)
-      return fail("-r " + std::to_string(res[0]) + " " + std::to_string(res[1]) + ": the image would have " +
-                  std::to_string((long long)res[0] * res[1]) + " pixels; at most " +
-                  std::to_string(kMaxImagePixels) + " (e.g. 8192 x 4096) fit the renderer's memory limit");
-    o->width = res[0];
-    o->height = res[1];
-  }
-  if (!adaptive.empty()) {
-    try {
-      size_t u1 = 0, u2 = 0;
-      const int b = std::stoi(adaptive[0], &u1);
-      const double t = std::stod(adaptive[1], &u2);
-      if (u1 != adaptive[0].size() || u2 != adaptive[1].size()) throw std::invalid_argument("");
-      if (b < 1 || b > (1 << 20)) return fail("-a: samples per batch must be at least 1, got " + adaptive[0]);
-      if (!(t > 0) || !std::isfinite(t)) return fail("-a: tolerance must be a positive number, got " + adaptive[1]);
-      o->adaptive_batch = b;
-      o->adaptive_tolerance = t;
-      o->adaptive_set = true;
-    } catch (const std::exception&) {
-      return fail("-a: expected an integer batch size and a number, got '" + adaptive[0] + " " + adaptive[1] + "'");
-    }
-  }
-  if (!cell.empty()) {
-    // In 64 bits: X + DX must not wrap around.
-    const long long x = cell[0], y = cell[1], dx = cell[2], dy = cell[3];
-    if (x < 0 || y < 0 || dx < 1 || dy < 1 || x + dx > o->width || y + dy > o->height)
-      return fail("-p: the cell must lie inside the " + std::to_string(o->width) + "x" +
-                  std::to_string(o->height) + " image and be at least 1x1");
-    o->cell_set = true;
-    o->cell_x = cell[0];
-    o->cell_y = cell[1];
-    o->cell_w = cell[2];
-    o->cell_h = cell[3];
-  }
-  if ((o->bvh_boxes_depth >= 0 || o->bvh_node >= 0) && o->part < 2)
-    return fail(std::string(o->bvh_boxes_depth >= 0 ? "--bvh-boxes" : "--bvh-node") +
-                " draws the BVH's boxes: it needs --part 2 or later (part 1 has no BVH)");
-  if (o->part > kPartsBuilt)
-    return fail("--part " + std::to_string(o->part) + ": this build implements parts 1 to " +
-                std::to_string(kPartsBuilt) + " only");
-  const std::string conflict = path_conflict(*o);
-  if (!conflict.empty()) return fail(conflict);
-  return std::nullopt;
+  const std::string error = apply_flags(app, raw, o);
+  if (error.empty()) return std::nullopt;
+  std::fprintf(stderr, "pathtracer: error: %s\n", error.c_str());
+  return 2;
 }
 
 }  // namespace pt

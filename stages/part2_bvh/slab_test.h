@@ -1,5 +1,6 @@
 // Part 2, task 2: does a ray's interval meet a box?
 #pragma once
+#include "common/todo.h"
 #include "common/vec3.h"
 
 namespace pt {
@@ -11,7 +12,7 @@ namespace pt {
 inline bool slab_test(const Vec3& lo, const Vec3& hi, const Vec3& o, const Vec3& inv_d, float t_min, float t_max,
                       float* t_enter) {
   // BEGIN SOLUTION
-  // STUB: (void)lo; (void)hi; (void)o; (void)inv_d; (void)t_max;
+  // STUB: unused(lo, hi, o, inv_d, t_max);
   // STUB: *t_enter = t_min;  // every box is "hit": correct, but no faster than testing everything
   // STUB: return true;
   // Per axis, the ray is inside the slab between the two plane crossings.

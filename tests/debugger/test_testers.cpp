@@ -100,29 +100,43 @@ std::vector<debug::RayInput> ray_table() {
   return rays;
 }
 
-}  // namespace
-
-TEST_CASE("the intersection tester agrees with intersect_triangle on a table of rays", "[debugger][part1]") {
-  const Triangle tri = tilted_triangle();
+// Runs the table's rays through the build's own function `direct` and
+// through the tester `tester` on the same shape: the same verdict, max_t
+// after the call, and on a hit the same t and normal (plus `on_hit`'s
+// checks). Returns how many rays hit.
+template <class Shape, class Direct, class Tester, class OnHit>
+int count_agreeing_hits(const char* function, Direct direct, Tester tester, const Shape& shape, OnHit on_hit) {
   int hits = 0;
   for (const debug::RayInput& in : ray_table()) {
     Ray r(in.origin, in.direction, in.min_t, in.max_t);
     Hit h;
-    const bool hit = intersect_triangle(tri, r, &h);
-    const debug::IntersectionResult res = debug::test_ray_triangle(tri, in);
+    const bool hit = direct(shape, r, &h);
+    const debug::IntersectionResult res = tester(shape, in);
     INFO(res.to_json());
     REQUIRE(res.ok());
-    CHECK(res.function == "intersect_triangle");
+    CHECK(res.function == function);
     CHECK(res.hit == hit);
     CHECK(same(res.max_t_after, r.max_t));
     if (hit) {
       ++hits;
       CHECK(same(res.t, h.t));
       CHECK(same(res.normal, h.n));
-      CHECK(res.material == h.material);
-      CHECK(same(res.point, Ray(in.origin, in.direction).at(h.t)));
+      on_hit(res, in, h);
     }
   }
+  return hits;
+}
+
+}  // namespace
+
+TEST_CASE("the intersection tester agrees with intersect_triangle on a table of rays", "[debugger][part1]") {
+  const Triangle tri = tilted_triangle();
+  const int hits = count_agreeing_hits("intersect_triangle", intersect_triangle, debug::test_ray_triangle, tri,
+                                       [](const debug::IntersectionResult& res, const debug::RayInput& in,
+                                          const Hit& h) {
+                                         CHECK(res.material == h.material);
+                                         CHECK(same(res.point, Ray(in.origin, in.direction).at(h.t)));
+                                       });
   CHECK(hits >= 5);
   // A hand-checked row: straight down onto z = 0 from z = 5 with |d| = 2.
   const debug::IntersectionResult down = debug::test_ray_triangle(tri, {{0.2f, 0.3f, 5}, {0, 0, -2}, 0, kInfinity});
@@ -136,24 +150,9 @@ TEST_CASE("the intersection tester agrees with intersect_sphere on a table of ra
   s.center = {0.1f, -0.2f, 0};
   s.radius = 1.5f;
   s.material = 4;
-  int hits = 0;
-  for (const debug::RayInput& in : ray_table()) {
-    Ray r(in.origin, in.direction, in.min_t, in.max_t);
-    Hit h;
-    const bool hit = intersect_sphere(s, r, &h);
-    const debug::IntersectionResult res = debug::test_ray_sphere(s, in);
-    INFO(res.to_json());
-    REQUIRE(res.ok());
-    CHECK(res.function == "intersect_sphere");
-    CHECK(res.hit == hit);
-    CHECK(same(res.max_t_after, r.max_t));
-    if (hit) {
-      ++hits;
-      CHECK(same(res.t, h.t));
-      CHECK(same(res.normal, h.n));
-      CHECK(res.material == 4);
-    }
-  }
+  const int hits = count_agreeing_hits(
+      "intersect_sphere", intersect_sphere, debug::test_ray_sphere, s,
+      [](const debug::IntersectionResult& res, const debug::RayInput&, const Hit&) { CHECK(res.material == 4); });
   CHECK(hits >= 5);
   const debug::IntersectionResult inside = debug::test_ray_sphere(s, {{0.1f, -0.2f, 0}, {0, 0, -1}, 0, kInfinity});
   REQUIRE(inside.hit);

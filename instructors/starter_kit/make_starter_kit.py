@@ -21,7 +21,10 @@ Left out of the kit:
     scene generator, fuzzers: instructors/README.md), and CI (.ci/);
   - reference-only sources: a C++ file whose first line starts with
     "// REFERENCE ONLY" (e.g. the reference's SSE pair slab test). No file of
-    the kit may #include one, and no CMake file of the kit may name one.
+    the kit may #include one, and no CMake file of the kit may name one;
+  - reference-only documents: a Markdown file whose first line starts with
+    "<!-- REFERENCE ONLY" (docs/benchmarks.md, about the reference's fast
+    BVH). No Markdown file of the kit may link to one.
 
 Installed over the copied files: the overlay files of
 instructors/starter_kit/overlay/ (OVERLAY below: the students' README.md,
@@ -68,6 +71,7 @@ BEGIN = re.compile(r"^(\s*)// BEGIN SOLUTION\s*$")
 END = re.compile(r"^\s*// END SOLUTION\s*$")
 STUB = re.compile(r"^\s*// STUB: ?(.*)$")
 REFERENCE_ONLY = "// REFERENCE ONLY"
+REFERENCE_ONLY_DOC = "<!-- REFERENCE ONLY"
 # Left out of the kit: everything students do not get lives in the
 # instructors' folder; CI runs on the reference tree only.
 LEFT_OUT = (".ci/", "instructors/")
@@ -767,6 +771,8 @@ def make_kit(root):
             left_out.append(rel)
             solution_lines.update(l.strip() for l in lines)
             continue
+        if rel.endswith(".md") and lines and lines[0].startswith(REFERENCE_ONLY_DOC):
+            continue  # check_links stops any kit document that links to it
         if is_source(rel):
             check_todo_parts(rel, lines)
             out, solution, regions = strip_regions(rel, lines)

@@ -86,11 +86,18 @@ static_assert(sizeof(WideNode) == 128, "WideNode must be two cache lines");
 
 // Four triangles in SoA, ready for Moller-Trumbore: p1 and the edges
 // e1 = p2 - p1, e2 = p3 - p1. Unused lanes and sphere lanes are all zero.
+// The lanes' primitive ids come last, in the cache line the test has just
+// read: a closest hit needs its id to read the triangle's normals, and a
+// separate array of ids cost one more cache miss per query (two dependent
+// misses on a large mesh, about 10 % of a primary ray's time on the
+// 200k-triangle dragon).
 struct alignas(16) TrianglePacket {
   float p[3][4];
   float e1[3][4];
   float e2[3][4];
+  uint32_t id[4];  // the primitive (triangles, then spheres), or WideBVH::kNoPrimitive
 };
+static_assert(sizeof(TrianglePacket) == 160, "TrianglePacket: three cache lines at most");
 
 // A child reference as the traversal carries it: (child, count) as stored in
 // WideNode, and the distance at which the ray enters its box.
@@ -103,7 +110,6 @@ struct WideEntry {
 struct WideBVH {
   std::vector<WideNode> nodes;             // nodes[0] is the root (unless the tree is one leaf)
   std::vector<TrianglePacket> packets;     // leaf order
-  std::vector<uint32_t> ids;               // 4 per packet: primitive id, or kNoPrimitive
   uint32_t root_count = 0;                 // 0: the root is nodes[0]; else the tree is one leaf (count as in WideNode)
   uint32_t num_triangles = 0;
   bool has_spheres = false;
@@ -120,33 +126,22 @@ struct WideBVH {
                 const std::vector<Triangle>& triangles, size_t num_spheres) {
     nodes.clear();
     packets.clear();
-    ids.clear();
     num_triangles = uint32_t(triangles.size());
     has_spheres = num_spheres > 0;
     root_count = 0;
     if (bin.empty()) return;
     nodes.reserve(bin.size() / 3 + 1);
     packets.reserve(leaf_ids.size() / 2 + 1);
-    ids.reserve(leaf_ids.size() * 2 + 4);
     // Packs a leaf's primitives into packets: from lane `lane` of packet
     // `packet` on (a packet that has room), or into new packets.
     const auto new_packet = [&]() {
       packets.emplace_back();
-      for (int lane = 0; lane < 4; ++lane) ids.push_back(kNoPrimitive);
+      for (uint32_t& id : packets.back().id) id = kNoPrimitive;
       return uint32_t(packets.size() - 1);
     };
-    const auto put = [&](uint32_t packet, uint32_t lane, uint32_t id) {
-      ids[4 * size_t(packet) + lane] = id;
-      if (id >= num_triangles) return;  // sphere lane: zero edges
-      const Triangle& t = triangles[id];
-      const Vec3 e1 = t.p2 - t.p1, e2 = t.p3 - t.p1;
-      TrianglePacket& pk = packets[packet];
-      for (int a = 0; a < 3; ++a) {
-        pk.p[a][lane] = t.p1[a];
-        pk.e1[a][lane] = e1[a];
-        pk.e2[a][lane] = e2[a];
-      }
-    };
+    // The tree is laid out first, with only the ids in the packets;
+    // fill_lanes() then copies the triangles into them.
+    const auto put = [&](uint32_t packet, uint32_t lane, uint32_t id) { packets[packet].id[lane] = id; };
     // Returns the leaf's (child, count) as WideNode stores them.
     uint32_t open_packet = 0, open_used = 4;  // the packet with room, and its lanes in use
     const auto pack_leaf = [&](const Node& leaf, uint32_t* count) {
@@ -170,6 +165,7 @@ struct WideBVH {
     };
     if (bin[0].is_leaf()) {
       pack_leaf(bin[0], &root_count);
+      fill_lanes(triangles);
       return;
     }
     // Depth first: a node's index is taken before its subtrees are made.
@@ -225,17 +221,50 @@ struct WideBVH {
       }
       nodes[w.wide_index] = out;
     }
+    fill_lanes(triangles);
+  }
+
+  // Copies each lane's triangle into its packet, in packet order. The
+  // triangles are read in leaf order, which is random in the scene's
+  // array: each is asked for a few lanes ahead, so that the cache misses
+  // overlap (waiting for each triangle in turn made this loop cost more
+  // than the rest of the collapse).
+  void fill_lanes(const std::vector<Triangle>& triangles) {
+    constexpr size_t kAhead = 16;
+    const size_t n = 4 * packets.size();
+    const auto triangle_of = [&](size_t i) -> const Triangle* {
+      const uint32_t id = i < n ? packets[i / 4].id[i % 4] : kNoPrimitive;
+      return id < num_triangles ? &triangles[id] : nullptr;
+    };
+    for (size_t i = 0; i < n; ++i) {
+      if (const Triangle* ahead = triangle_of(i + kAhead)) {
+        const char* bytes = reinterpret_cast<const char*>(ahead);
+        _mm_prefetch(bytes, _MM_HINT_T0);
+        _mm_prefetch(bytes + sizeof(Triangle) - 1, _MM_HINT_T0);
+      }
+      const Triangle* t = triangle_of(i);
+      if (t == nullptr) continue;  // an empty or sphere lane: zero edges
+      const Vec3 e1 = t->p2 - t->p1, e2 = t->p3 - t->p1;
+      TrianglePacket& pk = packets[i / 4];
+      const size_t lane = i % 4;
+      for (int a = 0; a < 3; ++a) {
+        pk.p[a][lane] = t->p1[a];
+        pk.e1[a][lane] = e1[a];
+        pk.e2[a][lane] = e2[a];
+      }
+    }
   }
 };
 
 // A ray prepared for the wide traversal: origin, reciprocal direction and
 // direction broadcast to four lanes, and which row of a node's bounds is the
-// near plane of each axis (lo when the direction is positive, else hi). All
+// near plane of each axis (lo when the direction is positive, else hi), as a
+// byte offset into WideNode::bounds, ready to be added to a node's address. All
 // computed for the three axes at once: a query's fixed cost matters, as two
 // camera rays in three leave a Cornell box at its first node.
 struct WideRay {
   __m128 o[3], inv[3], d[3];
-  int near_row[3], far_row[3];
+  size_t near_offset[3], far_offset[3];  // row * 16 bytes
   bool finite;  // origin and direction finite (a ray that is not hits nothing, as with brute force)
   explicit WideRay(const Ray& r) {
     // Loaded one float at a time: a 16-byte load of a ray its caller has just
@@ -263,24 +292,26 @@ struct WideRay {
     inv[0] = _mm_shuffle_ps(iv, iv, 0x00);
     inv[1] = _mm_shuffle_ps(iv, iv, 0x55);
     inv[2] = _mm_shuffle_ps(iv, iv, 0xaa);
-    const int negative = _mm_movemask_ps(iv);
-    for (int a = 0; a < 3; ++a) {
-      const int neg = (negative >> a) & 1;
-      near_row[a] = 2 * a + neg;
-      far_row[a] = 2 * a + 1 - neg;
-    }
+    const size_t negative = size_t(_mm_movemask_ps(iv));
+    constexpr size_t kRow = sizeof(__m128);
+    near_offset[0] = (0 + (negative & 1)) * kRow;
+    near_offset[1] = (2 + (negative >> 1 & 1)) * kRow;
+    near_offset[2] = (4 + (negative >> 2 & 1)) * kRow;
+    for (int a = 0; a < 3; ++a) far_offset[a] = near_offset[a] ^ kRow;  // the other row of the pair
   }
 };
 
 // The four children's boxes against [t_min, t_max]: bit c of the result is
 // set when the ray enters child c's box; *t_enter gets the entry distances.
 inline int wide_box_test(const WideNode& n, const WideRay& r, __m128 t_min, __m128 t_max, __m128* t_enter) {
-  const __m128 nx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.bounds[r.near_row[0]]), r.o[0]), r.inv[0]);
-  const __m128 ny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.bounds[r.near_row[1]]), r.o[1]), r.inv[1]);
-  const __m128 nz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.bounds[r.near_row[2]]), r.o[2]), r.inv[2]);
-  const __m128 fx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.bounds[r.far_row[0]]), r.o[0]), r.inv[0]);
-  const __m128 fy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.bounds[r.far_row[1]]), r.o[1]), r.inv[1]);
-  const __m128 fz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.bounds[r.far_row[2]]), r.o[2]), r.inv[2]);
+  const char* const rows = reinterpret_cast<const char*>(n.bounds);
+  const auto row = [rows](size_t offset) { return _mm_load_ps(reinterpret_cast<const float*>(rows + offset)); };
+  const __m128 nx = _mm_mul_ps(_mm_sub_ps(row(r.near_offset[0]), r.o[0]), r.inv[0]);
+  const __m128 ny = _mm_mul_ps(_mm_sub_ps(row(r.near_offset[1]), r.o[1]), r.inv[1]);
+  const __m128 nz = _mm_mul_ps(_mm_sub_ps(row(r.near_offset[2]), r.o[2]), r.inv[2]);
+  const __m128 fx = _mm_mul_ps(_mm_sub_ps(row(r.far_offset[0]), r.o[0]), r.inv[0]);
+  const __m128 fy = _mm_mul_ps(_mm_sub_ps(row(r.far_offset[1]), r.o[1]), r.inv[1]);
+  const __m128 fz = _mm_mul_ps(_mm_sub_ps(row(r.far_offset[2]), r.o[2]), r.inv[2]);
   const __m128 tn = _mm_max_ps(_mm_max_ps(nx, ny), _mm_max_ps(nz, t_min));
   const __m128 tf = _mm_min_ps(_mm_min_ps(fx, fy), _mm_min_ps(fz, t_max));
   *t_enter = tn;

@@ -26,14 +26,21 @@ Triangle make_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
 // A seeded soup of random triangles and a few spheres in [-1, 1]^3.
 Scene random_scene(int triangles, int spheres, uint64_t seed) {
   Scene s;
-  s.materials.push_back(Material{});
+  for (int m = 0; m < 3; ++m) s.materials.push_back(Material{});
   Rng rng(seed);
   const auto u = [&] { return rng.uniform() * 2.0f - 1.0f; };
   for (int i = 0; i < triangles; ++i) {
     const Vec3 c(u(), u(), u());
     const float size = 0.02f + 0.2f * rng.uniform();
-    s.triangles.push_back(make_triangle(c + Vec3(u(), u(), u()) * size, c + Vec3(u(), u(), u()) * size,
-                                        c + Vec3(u(), u(), u()) * size));
+    Triangle t = make_triangle(c + Vec3(u(), u(), u()) * size, c + Vec3(u(), u(), u()) * size,
+                               c + Vec3(u(), u(), u()) * size);
+    // Three different vertex normals and a material of its own, so a hit
+    // that reports another vertex's normal or the wrong material shows.
+    t.n1 = normalize(t.n1 + Vec3(0.3f, 0, 0));
+    t.n2 = normalize(t.n2 + Vec3(0, 0.3f, 0));
+    t.n3 = normalize(t.n3 + Vec3(0, 0, 0.3f));
+    t.material = i % 3;
+    s.triangles.push_back(t);
   }
   for (int i = 0; i < spheres; ++i) s.spheres.push_back(Sphere{Vec3(u(), u(), u()), 0.05f + 0.1f * rng.uniform(), 0});
   return s;
@@ -108,8 +115,7 @@ void check_reference_layout(const Scene& scene, const BVH& bvh, int max_leaf) {
 
   // The wide tree.
   const WideBVH& w = bvh.wide();
-  REQUIRE(w.ids.size() == 4 * w.packets.size());
-  std::vector<int> in_lane(n, 0);
+    std::vector<int> in_lane(n, 0);
   std::function<void(uint32_t, uint32_t, const BBox&)> visit_wide = [&](uint32_t child, uint32_t count,
                                                                         const BBox& box) {
     if (count > 0) {
@@ -117,11 +123,18 @@ void check_reference_layout(const Scene& scene, const BVH& bvh, int max_leaf) {
       CHECK((prims <= 4 ? first_lane + prims <= 4 : first_lane == 0));
       for (uint32_t k = 0; k < prims; ++k) {
         const size_t slot = 4 * size_t(child) + first_lane + k;
-        REQUIRE(slot < w.ids.size());
-        const uint32_t id = w.ids[slot];
+        REQUIRE(slot < 4 * w.packets.size());
+        const uint32_t id = w.packets[slot / 4].id[slot % 4];
         REQUIRE(id < n);
         ++in_lane[id];
         CHECK(box_contains(box, prim_box(id)));
+        if (id < scene.triangles.size()) {  // the lane holds this triangle's p1 and edges
+          const Triangle& t = scene.triangles[id];
+          const TrianglePacket& pk = w.packets[slot / 4];
+          const size_t lane = slot % 4;
+          CHECK((pk.p[0][lane] == t.p1.x && pk.p[1][lane] == t.p1.y && pk.p[2][lane] == t.p1.z));
+          CHECK((pk.e1[0][lane] == t.p2.x - t.p1.x && pk.e2[2][lane] == t.p3.z - t.p1.z));
+        }
       }
       return;
     }
@@ -149,7 +162,8 @@ void check_reference_layout(const Scene& scene, const BVH& bvh, int max_leaf) {
   // Every lane holding a primitive belongs to exactly one leaf (checked
   // above); the others are empty.
   size_t used_lanes = 0;
-  for (const uint32_t id : w.ids) used_lanes += id != WideBVH::kNoPrimitive;
+  for (const TrianglePacket& pk : w.packets)
+    for (const uint32_t id : pk.id) used_lanes += id != WideBVH::kNoPrimitive;
   CHECK(used_lanes == n);
 }
 // END SOLUTION

@@ -459,6 +459,24 @@ def check_reference_only_file_is_left_out(tmp):
     expect(os.path.exists(os.path.join(run.dest, "stages/part1_demo/work.h")), "an ordinary header went missing")
 
 
+def check_reference_only_document_is_left_out(tmp):
+    """A Markdown file whose first line starts with "<!-- REFERENCE ONLY" is
+    not in the kit (a document of the reference's own code, such as
+    docs/benchmarks.md); a kit document that links to it stops the
+    generator; the same text without the marker is copied."""
+    doc = "<!-- REFERENCE ONLY: about the reference's fast path -->\n# Benchmarks\n\nfast_solve 2x\n"
+    run = generate(base_tree({"docs/benchmarks.md": doc, "docs/other.md": "# Other\n"}), tmp)
+    expect_success(run, "a reference-only document")
+    expect(not os.path.exists(os.path.join(run.dest, "docs/benchmarks.md")), "the reference-only document is in the kit")
+    expect(os.path.exists(os.path.join(run.dest, "docs/other.md")), "an ordinary document went missing")
+    run = generate(base_tree({"docs/benchmarks.md": doc.split("\n", 1)[1]}), tmp)
+    expect_success(run, "the same document without the marker")
+    expect(os.path.exists(os.path.join(run.dest, "docs/benchmarks.md")), "a document without the marker was left out")
+    readme = "# Kit\n\nSpeed: [benchmarks](docs/benchmarks.md).\n"
+    run = generate(base_tree({"docs/benchmarks.md": doc, "README.md": readme}), tmp)
+    expect_failure(run, "README.md:3:", "docs/benchmarks.md", what="a link to a reference-only document")
+
+
 def check_kit_including_left_out_file_fails(tmp):
     """A kit file that #includes a left-out file, or a CMake file of the
     kit that names one, stops the generator with the file and line."""

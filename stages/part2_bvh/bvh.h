@@ -68,7 +68,7 @@ class BVH final : public Intersector {
   const std::vector<BVHNode>& nodes() const { return nodes_; }
   const std::vector<uint32_t>& leaf_primitives() const { return prim_ids_; }
   // BEGIN SOLUTION
-  // The reference's 4-wide tree, for its layout tests (tests/part2).
+  // The reference's 8-wide tree, for its layout tests (tests/part2).
   const WideBVH& wide() const { return wide_; }
   // END SOLUTION
 
@@ -85,7 +85,7 @@ class BVH final : public Intersector {
   std::vector<PackedTriangle> tris_;
   BVHBuildStats stats_;
   // BEGIN SOLUTION
-  WideBVH wide_;  // the reference's fast path: the tree above, collapsed 4-wide (bvh_wide.h)
+  WideBVH wide_;  // the reference's fast path: the tree above, collapsed 8-wide (bvh_wide.h)
   // END SOLUTION
 };
 

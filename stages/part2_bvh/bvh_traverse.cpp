@@ -18,7 +18,7 @@ namespace pt {
 namespace {
 
 // BEGIN SOLUTION
-// The reference traverses the 4-wide tree that BVH::build collapses from
+// The reference traverses the 8-wide tree that BVH::build collapses from
 // its binary SAH tree (bvh_wide.h says what each piece is and why it pays);
 // the counters keep their definitions (bvh_wide.h).
 
@@ -46,8 +46,8 @@ inline void prefetch_shading(const std::vector<Triangle>& triangles, uint32_t id
 }
 
 // The wide tree is at most as deep as the binary one (under 128 levels, see
-// bvh_build.cpp), and a wide node pushes at most three children.
-constexpr int kStackSize = 3 * 128 + 4;
+// bvh_build.cpp), and a wide node pushes at most all its children but one.
+constexpr int kStackSize = (kWideWidth - 1) * 128 + kWideWidth;
 
 // END SOLUTION
 
@@ -76,14 +76,12 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
   for (;;) {
     ++visits;
     if (cur.count == 0) {
-      // Interior: test the four children's boxes; go on to the nearest hit
+      // Interior: test the children's boxes; go on to the nearest hit
       // one and push the others, farthest first.
       const WideNode& n = wide_.nodes[cur.child];
-      __m128 tn;
-      int mask = wide_box_test(n, wr, t_min, _mm_set1_ps(r.max_t), &tn);
+      alignas(16) float t[kWideWidth];
+      int mask = wide_box_test(n, wr, t_min, _mm_set1_ps(r.max_t), t);
       if (mask != 0) {
-        alignas(16) float t[4];
-        _mm_store_ps(t, tn);
         const int c = lowest_bit(mask);
         mask &= mask - 1;
         if (mask == 0) {  // one child: no stack at all
@@ -194,11 +192,9 @@ bool BVH::occluded(const Ray& ray) const {
       // Interior: go on to the farthest child hit and push the others,
       // nearest first (bvh_wide.h says why far first).
       const WideNode& n = wide_.nodes[cur.child];
-      __m128 tn;
-      int mask = wide_box_test(n, wr, t_min, t_max, &tn);
+      alignas(16) float t[kWideWidth];
+      int mask = wide_box_test(n, wr, t_min, t_max, t);
       if (mask != 0) {
-        alignas(16) float t[4];
-        _mm_store_ps(t, tn);
         const int c = lowest_bit(mask);
         mask &= mask - 1;
         if (mask == 0) {

@@ -141,7 +141,7 @@ void check_reference_layout(const Scene& scene, const BVH& bvh, int max_leaf) {
     REQUIRE(child < w.nodes.size());
     const WideNode& node = w.nodes[child];
     int used = 0;
-    for (int c = 0; c < 4; ++c) {
+    for (int c = 0; c < kWideWidth; ++c) {
       const BBox cb(Vec3(node.bounds[0][c], node.bounds[2][c], node.bounds[4][c]),
                     Vec3(node.bounds[1][c], node.bounds[3][c], node.bounds[5][c]));
       if (node.bounds[0][c] == INFINITY) {  // an empty slot

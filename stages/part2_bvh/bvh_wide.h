@@ -3,7 +3,7 @@
 // Part 2 (speed): the reference traces an 8-wide BVH collapsed from the binary
 // SAH tree, with triangles stored four to a packet and tested in one pass.
 //
-// Why each piece pays (measured with bench/compare_embree.sh and callgrind,
+// Why each piece pays (measured with instructors/bench/compare_embree.sh and callgrind,
 // see docs/benchmarks.md):
 //  - 8-wide nodes: a binary tree of depth 3 folded into one node, so a ray
 //    takes about a third of the node steps, and each step tests eight boxes,

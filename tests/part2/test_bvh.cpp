@@ -73,7 +73,7 @@ void check_interface(const Scene& scene, const BVH& bvh, int max_leaf) {
 // BEGIN SOLUTION
 // The reference's own layout (not a contract for students' BVHs). Binary
 // tree: every primitive in exactly one leaf, boxes nest, leaf sizes
-// respected. 4-wide tree collapsed from it: every primitive in exactly one
+// respected. 8-wide tree collapsed from it: every primitive in exactly one
 // packet lane, under boxes that hold it, each node's slots either used or
 // empty boxes.
 void check_reference_layout(const Scene& scene, const BVH& bvh, int max_leaf) {

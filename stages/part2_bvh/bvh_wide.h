@@ -10,12 +10,12 @@
 //    four at a time with one SSE operation per plane. The boxes are stored
 //    SoA (all eight children's lo.x, then hi.x, ...) and the ray picks the
 //    near and far plane of each axis from its direction's sign once, so the
-//    test needs no min/max swap. A node is 256 bytes: four cache lines,
-//    aligned, side by side, which the memory system fetches together. On
+//    test needs no min/max swap. A node is 256 bytes: four aligned cache
+//    lines side by side, whose loads are issued together. On
 //    the dragons a query is bound by the wait for each node step's memory,
 //    so fewer steps pay more than the wider test costs: 8 children traced
-//    10-55 % faster than 4 (the large dragon's primary and bounce rays least,
-//    its shadow rays most); 12 and 16 were faster on the bunny's bounce and
+//    7-55 % faster than 4 (the dragons' primary rays least,
+//    their shadow rays most); 12 and 16 were faster on the bunny's bounce and
 //    shadow rays but slower on the dragon's (docs/benchmarks.md).
 //  - Triangle packets: a leaf's triangles (at most four by default) in SoA
 //    (p1.x of all four, then p1.y, ...), tested with one SSE Moller-Trumbore,

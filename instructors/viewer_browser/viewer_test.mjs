@@ -109,6 +109,30 @@ async function openBrowser() {
   return {browser, page, errors, close: async () => { await browser.close(); fs.rmSync(profile, {recursive: true, force: true}); }};
 }
 
+// Starts a viewer with `flags` (opts.bin: another build, default the
+// viewer; opts.env: added to its environment), opens its page in a fresh
+// headless Chromium, waits until the page is ready (opts.load === false:
+// leaves the page blank, for the caller to time the load) and runs
+// fn(page, v, errors): v is startViewer's, errors the page's script errors
+// so far. Whatever fn does, the browser is closed and the viewer stopped.
+async function withViewerPage(flags, fn, opts = {}) {
+  const v = await startViewer(opts.bin || args.viewer, flags, opts.env);
+  try {
+    const b = await openBrowser();
+    try {
+      if (opts.load !== false) {
+        await b.page.goto(v.url);
+        await b.page.waitForFunction(() => document.body.dataset.ready === '1');
+      }
+      return await fn(b.page, v, b.errors);
+    } finally {
+      await b.close();
+    }
+  } finally {
+    await stopViewer(v);
+  }
+}
+
 // Waits until the page's event log has an event matching `pred` (a function
 // source over the event `e`) and returns it.
 async function waitEvent(page, pred, timeout = 60000) {
@@ -169,12 +193,7 @@ const cases = {};
 // exactly the command line's image; a settings change restarts the render;
 // a cell render changes only its cell.
 cases.page_render = async () => {
-  const v = await startViewer(args.viewer, [...FLAGS, SCENE()]);
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage([...FLAGS, SCENE()], async (page, v, errors) => {
     const job = await lastJob(page);
     const end = await renderEnd(page, job);
     check(end.state === 'done' && end.samples === 16, 'the progressive render reaches 16 samples', JSON.stringify(end));
@@ -285,23 +304,15 @@ cases.page_render = async () => {
       return n / (d.length / 4);
     });
     check(normalsDrawn > 0.99, 'the normals overlay covers the image', String(normalsDrawn));
-    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
 };
 
 // "Save camera" writes the course's -c file of the 3D view; the command
 // line renders exactly the viewer's "render from here" image from it.
 cases.camera_round_trip = async () => {
   const flags = ['-r', '80', '60', '-s', '4', '-m', '1', '-t', '2', '--seed', '3'];
-  const v = await startViewer(args.viewer, [...flags, SCENE()]);
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage([...flags, SCENE()], async (page, v, errors) => {
     const first = await renderEnd(page, await lastJob(page));
     check(first.state === 'done', 'the first render finishes');
     const defaultPng = await fetchBytes(v, `/api/png?job=${first.job}`);
@@ -331,21 +342,13 @@ cases.camera_round_trip = async () => {
     check(Buffer.compare(viewerPng, fs.readFileSync(cliPng)) === 0,
           'pathtracer -c <saved camera> renders the viewer\'s image exactly');
     check(Buffer.compare(viewerPng, defaultPng) !== 0, 'the orbited view differs from the scene\'s own view');
-    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
 };
 
 // BVH mode: the root's box is the scene's bounds; a child's box is smaller.
 cases.bvh = async () => {
-  const v = await startViewer(args.viewer, ['-r', '80', '60', '-s', '1', '-t', '2', path.join(args.scenes, 'CBbunny.dae')]);
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '80', '60', '-s', '1', '-t', '2', path.join(args.scenes, 'CBbunny.dae')], async (page, v, errors) => {
     await page.keyboard.press('v');
     await page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 60000});
     const r = await page.evaluate(() => ({root: window.viewer.view3d.box(0), bounds: window.viewer.scene.bounds}));
@@ -385,11 +388,8 @@ cases.bvh = async () => {
     await page.dispatchEvent('#depth-slider', 'input');
     check((await page.locator('#depth-label').textContent()) === '3', 'the depth slider shows depth 3');
     await page.screenshot({path: path.join(OUT, 'bvh_depth.png')});
-    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
 };
 
 // Requests without the token are refused; files outside the folders named
@@ -440,12 +440,7 @@ cases.token_and_paths = async () => {
 // A build whose part prints a stub's TODO line: the page says which part
 // and function, and still shows the image.
 cases.todo_banner = async () => {
-  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '2', '-t', '2', SCENE()], {PT_VIEWER_PLANT: 'todo'});
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '64', '48', '-s', '2', '-t', '2', SCENE()], async (page) => {
     const end = await renderEnd(page, await lastJob(page));
     const text = await page.locator('#banner').textContent();
     check(await page.locator('#banner').isVisible() &&
@@ -455,22 +450,13 @@ cases.todo_banner = async () => {
     const px = await canvasPixels(page);
     check(px.some((x, i) => i % 4 !== 3 && x > 0), 'the canvas is not blank');
     await page.screenshot({path: path.join(OUT, 'todo_banner.png')});
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'todo'}});
 };
 
 // A crash in a render (a planted null write) is reported in the page and
 // the server keeps serving: the next render works.
 cases.crash_reported = async () => {
-  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '2', '-t', '2', '--seed', '13', SCENE()],
-                              {PT_VIEWER_PLANT: 'crash'});
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '64', '48', '-s', '2', '-t', '2', '--seed', '13', SCENE()], async (page, v) => {
     const end = await renderEnd(page, await lastJob(page));
     const text = await page.locator('#banner').textContent();
     check(end.state === 'crashed', 'the render is reported as crashed', end.state);
@@ -493,46 +479,38 @@ cases.crash_reported = async () => {
     check(thrown.state === 'failed' && thrownText.includes('planted failure: a part threw an exception'),
           'an exception in a render is reported with its message', `${thrown.state}: ${thrownText}`);
     check(v.proc.exitCode === null, 'the server process is still running');
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'crash'}});
 };
 
 // One screenshot per mode at a realistic size (the README's pictures:
 // --publish DIR copies them there), and the 3D views draw something.
 cases.screenshots = async () => {
-  const v = await startViewer(args.viewer, ['-r', '480', '360', '-s', '16', '-l', '1', '-m', '3', '-t', '2',
-                                            path.join(args.scenes, 'CBbunny.dae')]);
-  const b = await openBrowser();
-  const shots = [];
-  // PNG artefacts; the README's copies (--publish) as small JPEGs of the same frame.
-  const shoot = async (name) => {
-    const clip = {x: 0, y: 0, width: 1280, height: 860};
-    await b.page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
-    if (args.publish) {
-      const file = path.join(OUT, name);
-      await b.page.screenshot({path: file, type: 'jpeg', quality: 82, clip});
-      shots.push(file);
-    }
-  };
-  // The WebGL canvas's pixels that are not the background.
-  const drawn = () => b.page.evaluate(() => {
-    const c = document.getElementById('three-canvas');
-    const g = document.createElement('canvas');
-    g.width = c.width;
-    g.height = c.height;
-    const x = g.getContext('2d');
-    x.drawImage(c, 0, 0);
-    const d = x.getImageData(0, 0, g.width, g.height).data;
-    let n = 0;
-    for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - 0x15) + Math.abs(d[i + 1] - 0x16) + Math.abs(d[i + 2] - 0x1a) > 30) ++n;
-    return n / (d.length / 4);
-  });
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  const flags = ['-r', '480', '360', '-s', '16', '-l', '1', '-m', '3', '-t', '2', path.join(args.scenes, 'CBbunny.dae')];
+  await withViewerPage(flags, async (page, v, errors) => {
+    const shots = [];
+    // PNG artefacts; the README's copies (--publish) as small JPEGs of the same frame.
+    const shoot = async (name) => {
+      const clip = {x: 0, y: 0, width: 1280, height: 860};
+      await page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
+      if (args.publish) {
+        const file = path.join(OUT, name);
+        await page.screenshot({path: file, type: 'jpeg', quality: 82, clip});
+        shots.push(file);
+      }
+    };
+    // The WebGL canvas's pixels that are not the background.
+    const drawn = () => page.evaluate(() => {
+      const c = document.getElementById('three-canvas');
+      const g = document.createElement('canvas');
+      g.width = c.width;
+      g.height = c.height;
+      const x = g.getContext('2d');
+      x.drawImage(c, 0, 0);
+      const d = x.getImageData(0, 0, g.width, g.height).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - 0x15) + Math.abs(d[i + 1] - 0x16) + Math.abs(d[i + 2] - 0x1a) > 30) ++n;
+      return n / (d.length / 4);
+    });
     const end = await renderEnd(page, await lastJob(page));
     check(end.state === 'done', 'the render finishes');
     await shoot('render_mode.jpg');
@@ -561,15 +539,12 @@ cases.screenshots = async () => {
     await page.fill('#depth-slider', '6');
     await page.dispatchEvent('#depth-slider', 'input');
     await shoot('bvh_depth.jpg');
-    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
     if (args.publish) {
       fs.mkdirSync(args.publish, {recursive: true});
       for (const f of shots) fs.copyFileSync(f, path.join(args.publish, path.basename(f)));
     }
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  });
 };
 
 // Debug mode: the path inspector's total is the command line's pixel at
@@ -603,24 +578,19 @@ async function openDebug(page) {
 }
 
 cases.debug_tools = async () => {
-  const v = await startViewer(args.viewer, [...DEBUG_FLAGS, SCENE()]);
-  const b = await openBrowser();
-  // PNG artefacts; --publish DIR: the README's picture (a JPEG) of the path inspector.
-  const shoot = async (name) => {
-    const clip = {x: 0, y: 0, width: 1400, height: 900};
-    await b.page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
-    if (args.publish && name.endsWith('.jpg')) {
-      fs.mkdirSync(args.publish, {recursive: true});
-      await b.page.screenshot({path: path.join(args.publish, name), type: 'jpeg', quality: 82, clip});
-    }
-  };
-  try {
-    const {page} = b;
-    const pfmFile = path.join(OUT, 'cli.pfm');
-    runCli([...DEBUG_FLAGS, '--pfm', pfmFile, '-f', path.join(OUT, 'cli.png'), SCENE()]);
-    const cli = fs.readFileSync(pfmFile);
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  const pfmFile = path.join(OUT, 'cli.pfm');
+  runCli([...DEBUG_FLAGS, '--pfm', pfmFile, '-f', path.join(OUT, 'cli.png'), SCENE()]);
+  const cli = fs.readFileSync(pfmFile);
+  await withViewerPage([...DEBUG_FLAGS, SCENE()], async (page, v, errors) => {
+    // PNG artefacts; --publish DIR: the README's picture (a JPEG) of the path inspector.
+    const shoot = async (name) => {
+      const clip = {x: 0, y: 0, width: 1400, height: 900};
+      await page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
+      if (args.publish && name.endsWith('.jpg')) {
+        fs.mkdirSync(args.publish, {recursive: true});
+        await page.screenshot({path: path.join(args.publish, name), type: 'jpeg', quality: 82, clip});
+      }
+    };
     const end = await renderEnd(page, await lastJob(page));
     check(end.state === 'done', 'the render finishes', end.state);
     await openDebug(page);
@@ -773,25 +743,16 @@ cases.debug_tools = async () => {
     check(again.ok && v.proc.exitCode === null, 'the server keeps serving after the refusals', again.error);
     // The browser logs each refused request (HTTP 400) on the console; anything else is a fault.
     const refusedLog = (e) => /^Failed to load resource: the server responded with a status of 400/.test(e);
-    const refusals = b.errors.filter(refusedLog).length;
+    const refusals = errors.filter(refusedLog).length;
     check(refusals === 7, 'the seven refusals were HTTP 400', String(refusals));
-    check(b.errors.filter((e) => !refusedLog(e)).length === 0, 'no script errors in the page', b.errors.join('; '));
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+    check(errors.filter((e) => !refusedLog(e)).length === 0, 'no script errors in the page', errors.join('; '));
+  });
 };
 
 // A crash in the build's code during a Debug mode call is a message naming
 // the function; the next call works.
 cases.debug_crash = async () => {
-  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '1', '-t', '2', '--seed', '13', SCENE()],
-                              {PT_VIEWER_PLANT: 'crash'});
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '64', '48', '-s', '1', '-t', '2', '--seed', '13', SCENE()], async (page, v) => {
     await renderEnd(page, await lastJob(page));
     await openDebug(page);
     await page.click('#debug-tabs button[data-tool=intersect]');
@@ -807,22 +768,14 @@ cases.debug_crash = async () => {
     check(ok.ok && ok.result.hit && ok.result.t === 2, 'the next call works (the default ray hits its triangle at t = 2)',
           JSON.stringify(ok.result || ok.error));
     check(v.proc.exitCode === null, 'the server process is still running');
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'crash'}});
 };
 
 // Unfinished code in a Debug mode call (the test build prints a stub's
 // TODO line in every worker): the banner names the part, the function and
 // the file, and the tool still answers.
 cases.debug_todo = async () => {
-  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '1', '-t', '2', SCENE()], {PT_VIEWER_PLANT: 'todo'});
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '64', '48', '-s', '1', '-t', '2', SCENE()], async (page) => {
     await renderEnd(page, await lastJob(page));
     await openDebug(page);
     await page.click('#debug-tabs button[data-tool=intersect]');
@@ -833,50 +786,42 @@ cases.debug_todo = async () => {
           text.includes('Part 1 not implemented (TODO: raytrace_pixel, stages/part1_raytracing/pixel_sampling.cpp)'),
           'the banner names the part, the function and the file', text);
     await page.screenshot({path: path.join(OUT, 'debug_todo.png')});
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'todo'}});
 };
 
 // Not a test: timings for the report.
 async function measure() {
   const results = {};
   if (args.measure !== 'bvh') {
-    const v = await startViewer(args.viewer, ['-r', '480', '360', '-t', '2', '-s', '64', '-l', '4', '-m', '5',
-                                              SCENE()]);
-    const b = await openBrowser();
-    const t0 = Date.now();
-    await b.page.goto(v.url);
-    await b.page.waitForFunction(() => document.body.dataset.ready === '1');
-    const job = await lastJob(b.page);
-    await waitEvent(b.page, `e.type === 'frame' && e.job === ${job}`, 600000);
-    results.first_frame_ms_from_page_load = Date.now() - t0;
-    const end = await renderEnd(b.page, job, 600000);
-    const st = await b.page.evaluate(() => window.viewer.status);
-    results.frames = await b.page.evaluate((j) => window.viewer.events.filter((e) => e.type === 'frame' && e.job === j)
-      .map((e) => ({samples: e.samples, elapsed_s: e.elapsed, pass_s: e.seconds})), job);
-    results.passes = st.frame.pass + 1;
-    results.render_wall_s = st.wall;
-    results.passes_per_second = (st.frame.pass + 1) / st.wall;
-    results.end = end.state;
-    await b.close();
-    await stopViewer(v);
+    const flags = ['-r', '480', '360', '-t', '2', '-s', '64', '-l', '4', '-m', '5', SCENE()];
+    await withViewerPage(flags, async (page, v) => {
+      const t0 = Date.now();
+      await page.goto(v.url);
+      await page.waitForFunction(() => document.body.dataset.ready === '1');
+      const job = await lastJob(page);
+      await waitEvent(page, `e.type === 'frame' && e.job === ${job}`, 600000);
+      results.first_frame_ms_from_page_load = Date.now() - t0;
+      const end = await renderEnd(page, job, 600000);
+      const st = await page.evaluate(() => window.viewer.status);
+      results.frames = await page.evaluate((j) => window.viewer.events.filter((e) => e.type === 'frame' && e.job === j)
+        .map((e) => ({samples: e.samples, elapsed_s: e.elapsed, pass_s: e.seconds})), job);
+      results.passes = st.frame.pass + 1;
+      results.render_wall_s = st.wall;
+      results.passes_per_second = (st.frame.pass + 1) / st.wall;
+      results.end = end.state;
+    }, {load: false});
   }
-  {
-    const v = await startViewer(args.viewer, ['-r', '480', '360', '-t', '2', path.join(args.scenes, args.scene || 'CBdragon_large.dae')]);
-    const b = await openBrowser();
-    await b.page.goto(v.url);
-    await b.page.waitForFunction(() => document.body.dataset.ready === '1');
-    await b.page.keyboard.press('v');
-    await b.page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 600000});
+  const flags = ['-r', '480', '360', '-t', '2', path.join(args.scenes, args.scene || 'CBdragon_large.dae')];
+  await withViewerPage(flags, async (page) => {
+    await page.keyboard.press('v');
+    await page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 600000});
     // What a frame looks like while the camera moves.
-    await b.page.evaluate(() => { window.viewer.view3d.moving(true); window.viewer.view3d.redraw(); });
-    await b.page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
-    await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large_moving.png')});
-    await b.page.evaluate(() => window.viewer.view3d.moving(false));
-    await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large_still.png')});
-    const m = await b.page.evaluate((n) => window.viewer.view3d.measure(n), Number(args.frames || 120));
+    await page.evaluate(() => { window.viewer.view3d.moving(true); window.viewer.view3d.redraw(); });
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+    await page.screenshot({path: path.join(OUT, 'bvh_dragon_large_moving.png')});
+    await page.evaluate(() => window.viewer.view3d.moving(false));
+    await page.screenshot({path: path.join(OUT, 'bvh_dragon_large_still.png')});
+    const m = await page.evaluate((n) => window.viewer.view3d.measure(n), Number(args.frames || 120));
     const stats = (xs) => {
       xs.sort((a, c) => a - c);
       return {late: xs.filter((x) => x > 20).length / xs.length, median: xs[Math.floor(xs.length / 2)], p95: xs[Math.floor(xs.length * 0.95)], max: xs[xs.length - 1]};
@@ -886,10 +831,8 @@ async function measure() {
     results.bvh_frame_ms = stats(m.frames);
     results.bvh_draw_ms = stats(m.draws);
     results.bvh_triangles_drawn_while_moving = m.triangles;
-    await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large.png')});
-    await b.close();
-    await stopViewer(v);
-  }
+    await page.screenshot({path: path.join(OUT, 'bvh_dragon_large.png')});
+  });
   console.log(JSON.stringify(results, null, 2));
 }
 

@@ -392,6 +392,242 @@ cases.bvh = async () => {
   });
 };
 
+// Convex hull of points {x, y} (monotone chain), counter-clockwise in a
+// y-up frame.
+function hull(pts) {
+  const p = pts.slice().sort((a, c) => a.x - c.x || a.y - c.y);
+  const cross = (o, a, c) => (a.x - o.x) * (c.y - o.y) - (a.y - o.y) * (c.x - o.x);
+  const half = (list) => {
+    const h = [];
+    for (const q of list) {
+      while (h.length >= 2 && cross(h[h.length - 2], h[h.length - 1], q) <= 0) h.pop();
+      h.push(q);
+    }
+    h.pop();
+    return h;
+  };
+  return half(p).concat(half(p.slice().reverse()));
+}
+
+// Signed distance from (x, y) to a convex polygon's boundary: positive
+// inside, negative outside (the polygon counter-clockwise, as hull gives it).
+function polygonDepth(poly, x, y) {
+  let inside = true, d = Infinity;
+  for (let i = 0; i < poly.length; ++i) {
+    const a = poly[i], c = poly[(i + 1) % poly.length];
+    const ex = c.x - a.x, ey = c.y - a.y, len = Math.hypot(ex, ey);
+    if ((ex * (y - a.y) - ey * (x - a.x)) / len < 0) inside = false;
+    const t = Math.max(0, Math.min(1, ((x - a.x) * ex + (y - a.y) * ey) / (len * len)));
+    d = Math.min(d, Math.hypot(x - a.x - t * ex, y - a.y - t * ey));
+  }
+  return inside ? d : -d;
+}
+
+// BVH mode, clicking. A click inside one child's box on screen (and
+// outside the other's) descends into that child, as its key does; a click
+// on empty space changes nothing; a click does not move the camera. The
+// node is the first one, breadth first, whose children both have a part of
+// the screen to themselves (at the root of a Cornell box one child's box
+// holds the other's; the nearer box takes a click inside both).
+cases.bvh_click = async () => {
+  const flags = ['-r', '480', '360', '-s', '1', '-m', '1', '-t', '2', path.join(args.scenes, 'CBbunny.dae')];
+  await withViewerPage(flags, async (page, v, errors) => {
+    await page.keyboard.press('v');
+    await page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 60000});
+    const node = () => page.evaluate(() => Number(document.body.dataset.bvhNode));
+    const here = () => page.evaluate(() => {
+      const v3 = window.viewer.view3d;
+      return Object.assign(v3.nodeInfo(v3.state.node), {node: v3.state.node, text: document.getElementById('bvh-info').textContent});
+    });
+    const press = async (key) => {
+      const before = await node();
+      await page.keyboard.press(key);
+      await page.waitForFunction((n) => document.body.dataset.bvhNode !== String(n), before);
+    };
+    // Walks from the root along keys ('<', '>').
+    const goTo = async (keys) => {
+      while (await node() !== 0) await press('?');
+      for (const k of keys) await press(k);
+      return here();
+    };
+    // Each child's box projected by the page's own camera (three.js's
+    // project: the matrices it draws with) into page coordinates, and the
+    // points of a 4-pixel grid where the canvas is on top (not the panel).
+    const project = (nodes) => page.evaluate((ks) => {
+      const v3 = window.viewer.view3d, cam = v3.three.camera, canvas = document.getElementById('three-canvas');
+      cam.updateMatrixWorld();
+      const r = canvas.getBoundingClientRect();
+      const corners = ks.map((k) => {
+        const b = v3.box(k), out = [];
+        for (let c = 0; c < 8; ++c) {
+          const p = cam.position.clone().set(c & 1 ? b.hi[0] : b.lo[0], c & 2 ? b.hi[1] : b.lo[1],
+                                             c & 4 ? b.hi[2] : b.lo[2]).project(cam);
+          out.push({x: r.left + (p.x + 1) / 2 * r.width, y: r.top + (1 - p.y) / 2 * r.height, z: p.z});
+        }
+        return out;
+      });
+      const grid = [];
+      for (let y = r.top + 2; y < r.bottom - 2; y += 4) {
+        for (let x = r.left + 2; x < r.right - 2; x += 4) if (document.elementFromPoint(x, y) === canvas) grid.push({x, y});
+      }
+      return {corners, grid, view: v3.view()};
+    }, nodes);
+    // The grid point with the best score of at least 3 (pixels), or null.
+    const pick = (grid, score) => {
+      let best = null;
+      for (const p of grid) {
+        const s = score(p);
+        if (s >= 3 && (!best || s > best.s)) best = {x: p.x, y: p.y, s};
+      }
+      return best;
+    };
+
+    // Breadth first over the top four levels, by the keys.
+    let found = null;
+    const queue = [[]];
+    while (queue.length && !found) {
+      const keys = queue.shift();
+      const at = await goTo(keys);
+      if (/\(leaf\)/.test(at.text) || keys.length > 3) continue;
+      const kids = [];
+      for (const k of ['<', '>']) {
+        await press(k);
+        kids.push(await here());
+        await press('?');
+      }
+      const geo = await project(kids.map((k) => k.node));
+      if (!geo.corners.flat().every((p) => p.z > -1 && p.z < 1)) continue;
+      // Page y grows downwards: flipped for the hull's orientation.
+      const polys = geo.corners.map((cs) => hull(cs.map((p) => ({x: p.x, y: -p.y}))));
+      const depth = (i, p) => polygonDepth(polys[i], p.x, -p.y);
+      // Deepest inside child i's outline and 3 pixels or more outside the
+      // other's; empty space: 3 pixels or more outside both.
+      const only = [0, 1].map((i) => pick(geo.grid, (p) => Math.min(depth(i, p), -depth(1 - i, p))));
+      const empty = pick(geo.grid, (p) => Math.min(-depth(0, p), -depth(1, p)));
+      if (only[0] && only[1] && empty) found = {keys, at, kids, only, empty, view: geo.view};
+      queue.push([...keys, '<'], [...keys, '>']);
+    }
+    check(found !== null, 'a node near the root has two children each with a part of the screen to itself');
+    if (!found) return;
+    const {at, kids, only, empty} = found;
+    console.log(`# node ${at.node} (keys ${found.keys.join(' ') || 'none'}), children ${kids.map((k) => k.node).join(', ')}`);
+    await goTo(found.keys);
+    // The picture: the node, its children's boxes, and where the clicks go
+    // (marks drawn over the page for the screenshot only).
+    const marks = (on) => page.evaluate(({pts, show}) => {
+      for (const m of document.querySelectorAll('.test-click-mark')) m.remove();
+      if (!show) return;
+      for (const [x, y, colour] of pts) {
+        const m = document.createElement('div');
+        m.className = 'test-click-mark';
+        m.style.cssText = `position: fixed; left: ${x - 6}px; top: ${y - 6}px; width: 8px; height: 8px; ` +
+                          `border: 2px solid ${colour}; border-radius: 50%; pointer-events: none; z-index: 9`;
+        document.body.appendChild(m);
+      }
+    }, {pts: [[empty.x, empty.y, '#fff'], [only[0].x, only[0].y, '#ff4d4d'], [only[1].x, only[1].y, '#4da6ff']], show: on});
+    await marks(true);
+    await page.screenshot({path: path.join(OUT, 'bvh_click_points.png')});
+    await marks(false);
+
+    // Each click's outcome, read by a listener that runs after the page's own.
+    await page.evaluate(() => {
+      window.clicksSeen = [];
+      window.addEventListener('mouseup', () => window.clicksSeen.push({
+        node: document.body.dataset.bvhNode, text: document.getElementById('bvh-info').textContent,
+        box: window.viewer.view3d.box(window.viewer.view3d.state.node), view: window.viewer.view3d.view(),
+      }));
+    });
+    const click = async (p) => {
+      const n = await page.evaluate(() => window.clicksSeen.length);
+      await page.mouse.click(p.x, p.y);
+      await page.waitForFunction((k) => window.clicksSeen.length > k, n);
+      return page.evaluate(() => window.clicksSeen.at(-1));
+    };
+    const e = await click(empty);
+    check(e.node === String(at.node) && e.text === at.text, `a click on empty space leaves node ${at.node} selected`,
+          `node ${e.node} after a click at (${empty.x}, ${empty.y})`);
+    check(JSON.stringify(e.view) === JSON.stringify(found.view), 'a click does not move the camera', JSON.stringify(e.view));
+    await goTo(found.keys);
+    const side = ['left', 'right'];
+    for (const i of [0, 1]) {
+      const k = kids[i];
+      const c = await click(only[i]);
+      check(c.node === String(k.node) && c.text === k.text,
+            `a click inside the ${side[i]} child's box selects it: node ${k.node}, its panel (${k.primitives} primitives)`,
+            `node ${c.node} after a click at (${only[i].x}, ${only[i].y}), panel: ${JSON.stringify(c.text)}`);
+      check(JSON.stringify(c.box) === JSON.stringify(k.box), `the current box is then the ${side[i]} child's`,
+            JSON.stringify({shown: c.box, child: k.box}));
+      await page.screenshot({path: path.join(OUT, `bvh_click_${side[i]}.png`)});
+      await goTo(found.keys);
+    }
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
+};
+
+// The course's rate colour of a rate in [0, 1] (blue 0, green 1/2, red 1),
+// as 8-bit RGB.
+function rateColour(r) {
+  const c = r < 0.5 ? [0, r / 0.5, 1 - r / 0.5] : [(r - 0.5) / 0.5, 1 - (r - 0.5) / 0.5, 0];
+  return c.map((x) => Math.round(255 * Math.fround(x)));
+}
+
+// The overlay canvas's pixels, as an array of RGBA bytes.
+function overlayPixels(page) {
+  return page.evaluate(() => {
+    const c = document.getElementById('overlay-canvas');
+    return Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data);
+  });
+}
+
+// Part 5's sample-rate overlay: after an adaptive render (-a 8 0.1: some
+// pixels stop after 8, 16, ... of their 64 samples) it shows exactly the
+// rate image the command line writes (_rate.png) at the same settings and
+// seed; its colours are the legend's, blue for pixels that stopped early,
+// red for those that took every sample; and with the overlay on, a
+// restarted render's overlay is the new render's.
+cases.rate_overlay = async () => {
+  const flags = ['-r', '64', '48', '-s', '64', '-a', '8', '0.1', '-l', '2', '-m', '2', '-t', '2'];
+  const cliRate = (seed) => {
+    const png = path.join(OUT, `cli_seed${seed}.png`);
+    runCli([...flags, '--seed', String(seed), '-f', png, SCENE()]);
+    return png.replace(/\.png$/, '_rate.png');
+  };
+  await withViewerPage([...flags, '--seed', '5', SCENE()], async (page, v, errors) => {
+    const end = await renderEnd(page, await lastJob(page));
+    check(end.state === 'done' && end.samples === 64, 'the adaptive render finishes at 64 samples per pixel', JSON.stringify(end));
+    await page.selectOption('#overlay', 'rate');
+    await page.waitForFunction(() => document.getElementById('overlay-note').textContent.startsWith('samples taken'));
+    const shown = await overlayPixels(page), cli = await pngPixels(page, cliRate(5));
+    check(cli.w === 64 && cli.h === 48 && sameArrays(shown, cli.data),
+          'the sample-rate overlay shows the command line\'s rate image (_rate.png) pixel for pixel');
+    // The legend: every pixel took a whole number of 8-sample batches, so
+    // its colour is the rate colour of k/8 for k = 1..8.
+    const legend = new Map([1, 2, 3, 4, 5, 6, 7, 8].map((k) => [rateColour(k / 8).join(), k]));
+    const batches = [];
+    for (let i = 0; i < shown.length; i += 4) batches.push(legend.get(shown.slice(i, i + 3).join()));
+    check(batches.every((k) => k !== undefined), 'every pixel has the colour of 8, 16, ... or 64 samples taken of 64',
+          JSON.stringify(shown.slice(0, 12)));
+    const count = (pred) => batches.filter(pred).length;
+    check(count((k) => k === 8) > 0 && count((k) => k <= 2) > 0,
+          'some pixels took every sample (red) and some stopped within two batches (blue-green)',
+          `${count((k) => k === 8)} red, ${count((k) => k <= 2)} at 8 or 16 samples`);
+    await page.screenshot({path: path.join(OUT, 'overlay_rate.png')});
+
+    // With the overlay on, a new seed restarts the render; the overlay is
+    // redrawn with each pass and ends as the new render's rate image.
+    await page.fill('input[name=seed]', '6');
+    await page.dispatchEvent('input[name=seed]', 'change');
+    const next = await waitEvent(page, `e.type === 'render' && e.job > ${end.job}`);
+    const nextEnd = await renderEnd(page, next.job);
+    check(nextEnd.state === 'done' && next.settings.seed === 6, 'the render restarts with seed 6 and finishes',
+          JSON.stringify(next.settings.seed));
+    const again = await overlayPixels(page), cli6 = await pngPixels(page, cliRate(6));
+    check(sameArrays(again, cli6.data) && !sameArrays(again, shown),
+          'the overlay then shows the new render\'s rate image (the command line\'s at --seed 6), not the old one');
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
+};
+
 // Requests without the token are refused; files outside the folders named
 // on the command line cannot be opened; bad requests get a 4xx.
 cases.token_and_paths = async () => {

@@ -5,9 +5,9 @@
 //   node viewer_test.mjs --case NAME --viewer BIN --planted BIN --pathtracer BIN
 //                        --scenes DIR --web DIR --out DIR
 //
-// Cases: page_render, camera_round_trip, bvh, token_and_paths, todo_banner,
-// crash_reported, screenshots, debug_tools, debug_crash, debug_todo; `--measure`
-// prints timings instead (not a test; `--measure bvh` only BVH mode's frames,
+// Cases: page_render, camera_round_trip, bvh, bvh_click, rate_overlay,
+// token_and_paths, todo_banner, crash_reported, screenshots, debug_tools,
+// debug_crash, debug_todo; `--measure` prints timings instead (not a test; `--measure bvh` only BVH mode's frames,
 // `--frames N` of them, default 120; `late` is the share of frames over 20 ms).
 // Every wait is on an event of the page or a process, never a fixed delay.
 import {spawn, spawnSync} from 'node:child_process';

@@ -470,7 +470,7 @@ cases.bvh_click = async () => {
       for (let y = r.top + 2; y < r.bottom - 2; y += 4) {
         for (let x = r.left + 2; x < r.right - 2; x += 4) if (document.elementFromPoint(x, y) === canvas) grid.push({x, y});
       }
-      return {corners, grid, view: v3.view()};
+      return {corners, grid, view: v3.view(), centre: {x: r.left + r.width / 2, y: r.top + r.height / 2}};
     }, nodes);
     // The grid point with the best score of at least 3 (pixels), or null.
     const pick = (grid, score) => {
@@ -501,9 +501,11 @@ cases.bvh_click = async () => {
       const polys = geo.corners.map((cs) => hull(cs.map((p) => ({x: p.x, y: -p.y}))));
       const depth = (i, p) => polygonDepth(polys[i], p.x, -p.y);
       // Deepest inside child i's outline and 3 pixels or more outside the
-      // other's; empty space: 3 pixels or more outside both.
+      // other's; empty space: the point nearest the view's centre that is
+      // 10 pixels or more outside both.
       const only = [0, 1].map((i) => pick(geo.grid, (p) => Math.min(depth(i, p), -depth(1 - i, p))));
-      const empty = pick(geo.grid, (p) => Math.min(-depth(0, p), -depth(1, p)));
+      const empty = pick(geo.grid, (p) => (Math.min(-depth(0, p), -depth(1, p)) >= 10 ?
+        1e6 - Math.hypot(p.x - geo.centre.x, p.y - geo.centre.y) : 0));
       if (only[0] && only[1] && empty) found = {keys, at, kids, only, empty, view: geo.view};
       queue.push([...keys, '<'], [...keys, '>']);
     }

@@ -451,8 +451,8 @@ cases.bvh_click = async () => {
       return here();
     };
     // Each child's box projected by the page's own camera (three.js's
-    // project: the matrices it draws with) into page coordinates, and the
-    // points of a 4-pixel grid where the canvas is on top (not the panel).
+    // project: the matrices it draws with) into page coordinates, and a
+    // 4-pixel grid over the canvas.
     const project = (nodes) => page.evaluate((ks) => {
       const v3 = window.viewer.view3d, cam = v3.three.camera, canvas = document.getElementById('three-canvas');
       cam.updateMatrixWorld();
@@ -466,20 +466,22 @@ cases.bvh_click = async () => {
         }
         return out;
       });
-      const grid = [];
-      for (let y = r.top + 2; y < r.bottom - 2; y += 4) {
-        for (let x = r.left + 2; x < r.right - 2; x += 4) if (document.elementFromPoint(x, y) === canvas) grid.push({x, y});
+      return {corners, rect: {left: r.left, top: r.top, right: r.right, bottom: r.bottom}, view: v3.view()};
+    }, nodes).then((g) => {
+      const r = g.rect, grid = [];
+      for (let y = r.top + 2; y < r.bottom - 2; y += 4) for (let x = r.left + 2; x < r.right - 2; x += 4) grid.push({x, y});
+      return Object.assign(g, {grid, centre: {x: (r.left + r.right) / 2, y: (r.top + r.bottom) / 2}});
+    });
+    // The grid point with the best score of at least 3 (pixels) where the
+    // canvas is on top (not the panel over it), or null.
+    const pick = async (grid, score) => {
+      const ranked = grid.map((p) => ({x: p.x, y: p.y, s: score(p)})).filter((p) => p.s >= 3).sort((a, c) => c.s - a.s);
+      for (let i = 0; i < ranked.length; i += 256) {
+        const hit = await page.evaluate((ps) => ps.find((p) => document.elementFromPoint(p.x, p.y) ===
+                                                             document.getElementById('three-canvas')), ranked.slice(i, i + 256));
+        if (hit) return hit;
       }
-      return {corners, grid, view: v3.view(), centre: {x: r.left + r.width / 2, y: r.top + r.height / 2}};
-    }, nodes);
-    // The grid point with the best score of at least 3 (pixels), or null.
-    const pick = (grid, score) => {
-      let best = null;
-      for (const p of grid) {
-        const s = score(p);
-        if (s >= 3 && (!best || s > best.s)) best = {x: p.x, y: p.y, s};
-      }
-      return best;
+      return null;
     };
 
     // Breadth first over the top four levels, by the keys.
@@ -503,8 +505,9 @@ cases.bvh_click = async () => {
       // Deepest inside child i's outline and 3 pixels or more outside the
       // other's; empty space: the point nearest the view's centre that is
       // 10 pixels or more outside both.
-      const only = [0, 1].map((i) => pick(geo.grid, (p) => Math.min(depth(i, p), -depth(1 - i, p))));
-      const empty = pick(geo.grid, (p) => (Math.min(-depth(0, p), -depth(1, p)) >= 10 ?
+      const only = [await pick(geo.grid, (p) => Math.min(depth(0, p), -depth(1, p))),
+                    await pick(geo.grid, (p) => Math.min(depth(1, p), -depth(0, p)))];
+      const empty = await pick(geo.grid, (p) => (Math.min(-depth(0, p), -depth(1, p)) >= 10 ?
         1e6 - Math.hypot(p.x - geo.centre.x, p.y - geo.centre.y) : 0));
       if (only[0] && only[1] && empty) found = {keys, at, kids, only, empty, view: geo.view};
       queue.push([...keys, '<'], [...keys, '>']);

@@ -5,9 +5,9 @@
 //   node viewer_test.mjs --case NAME --viewer BIN --planted BIN --pathtracer BIN
 //                        --scenes DIR --web DIR --out DIR
 //
-// Cases: page_render, camera_round_trip, bvh, token_and_paths, todo_banner,
-// crash_reported, screenshots, debug_tools, debug_crash, debug_todo; `--measure`
-// prints timings instead (not a test; `--measure bvh` only BVH mode's frames,
+// Cases: page_render, camera_round_trip, bvh, bvh_click, rate_overlay,
+// token_and_paths, todo_banner, crash_reported, screenshots, debug_tools,
+// debug_crash, debug_todo; `--measure` prints timings instead (not a test; `--measure bvh` only BVH mode's frames,
 // `--frames N` of them, default 120; `late` is the share of frames over 20 ms).
 // Every wait is on an event of the page or a process, never a fixed delay.
 import {spawn, spawnSync} from 'node:child_process';
@@ -109,6 +109,30 @@ async function openBrowser() {
   return {browser, page, errors, close: async () => { await browser.close(); fs.rmSync(profile, {recursive: true, force: true}); }};
 }
 
+// Starts a viewer with `flags` (opts.bin: another build, default the
+// viewer; opts.env: added to its environment), opens its page in a fresh
+// headless Chromium, waits until the page is ready (opts.load === false:
+// leaves the page blank, for the caller to time the load) and runs
+// fn(page, v, errors): v is startViewer's, errors the page's script errors
+// so far. Whatever fn does, the browser is closed and the viewer stopped.
+async function withViewerPage(flags, fn, opts = {}) {
+  const v = await startViewer(opts.bin || args.viewer, flags, opts.env);
+  try {
+    const b = await openBrowser();
+    try {
+      if (opts.load !== false) {
+        await b.page.goto(v.url);
+        await b.page.waitForFunction(() => document.body.dataset.ready === '1');
+      }
+      return await fn(b.page, v, b.errors);
+    } finally {
+      await b.close();
+    }
+  } finally {
+    await stopViewer(v);
+  }
+}
+
 // Waits until the page's event log has an event matching `pred` (a function
 // source over the event `e`) and returns it.
 async function waitEvent(page, pred, timeout = 60000) {
@@ -169,12 +193,7 @@ const cases = {};
 // exactly the command line's image; a settings change restarts the render;
 // a cell render changes only its cell.
 cases.page_render = async () => {
-  const v = await startViewer(args.viewer, [...FLAGS, SCENE()]);
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage([...FLAGS, SCENE()], async (page, v, errors) => {
     const job = await lastJob(page);
     const end = await renderEnd(page, job);
     check(end.state === 'done' && end.samples === 16, 'the progressive render reaches 16 samples', JSON.stringify(end));
@@ -285,23 +304,15 @@ cases.page_render = async () => {
       return n / (d.length / 4);
     });
     check(normalsDrawn > 0.99, 'the normals overlay covers the image', String(normalsDrawn));
-    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
 };
 
 // "Save camera" writes the course's -c file of the 3D view; the command
 // line renders exactly the viewer's "render from here" image from it.
 cases.camera_round_trip = async () => {
   const flags = ['-r', '80', '60', '-s', '4', '-m', '1', '-t', '2', '--seed', '3'];
-  const v = await startViewer(args.viewer, [...flags, SCENE()]);
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage([...flags, SCENE()], async (page, v, errors) => {
     const first = await renderEnd(page, await lastJob(page));
     check(first.state === 'done', 'the first render finishes');
     const defaultPng = await fetchBytes(v, `/api/png?job=${first.job}`);
@@ -331,21 +342,13 @@ cases.camera_round_trip = async () => {
     check(Buffer.compare(viewerPng, fs.readFileSync(cliPng)) === 0,
           'pathtracer -c <saved camera> renders the viewer\'s image exactly');
     check(Buffer.compare(viewerPng, defaultPng) !== 0, 'the orbited view differs from the scene\'s own view');
-    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
 };
 
 // BVH mode: the root's box is the scene's bounds; a child's box is smaller.
 cases.bvh = async () => {
-  const v = await startViewer(args.viewer, ['-r', '80', '60', '-s', '1', '-t', '2', path.join(args.scenes, 'CBbunny.dae')]);
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '80', '60', '-s', '1', '-t', '2', path.join(args.scenes, 'CBbunny.dae')], async (page, v, errors) => {
     await page.keyboard.press('v');
     await page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 60000});
     const r = await page.evaluate(() => ({root: window.viewer.view3d.box(0), bounds: window.viewer.scene.bounds}));
@@ -385,11 +388,249 @@ cases.bvh = async () => {
     await page.dispatchEvent('#depth-slider', 'input');
     check((await page.locator('#depth-label').textContent()) === '3', 'the depth slider shows depth 3');
     await page.screenshot({path: path.join(OUT, 'bvh_depth.png')});
-    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
-  } finally {
-    await b.close();
-    await stopViewer(v);
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
+};
+
+// Convex hull of points {x, y} (monotone chain), counter-clockwise in a
+// y-up frame.
+function hull(pts) {
+  const p = pts.slice().sort((a, c) => a.x - c.x || a.y - c.y);
+  const cross = (o, a, c) => (a.x - o.x) * (c.y - o.y) - (a.y - o.y) * (c.x - o.x);
+  const half = (list) => {
+    const h = [];
+    for (const q of list) {
+      while (h.length >= 2 && cross(h[h.length - 2], h[h.length - 1], q) <= 0) h.pop();
+      h.push(q);
+    }
+    h.pop();
+    return h;
+  };
+  return half(p).concat(half(p.slice().reverse()));
+}
+
+// Signed distance from (x, y) to a convex polygon's boundary: positive
+// inside, negative outside (the polygon counter-clockwise, as hull gives it).
+function polygonDepth(poly, x, y) {
+  let inside = true, d = Infinity;
+  for (let i = 0; i < poly.length; ++i) {
+    const a = poly[i], c = poly[(i + 1) % poly.length];
+    const ex = c.x - a.x, ey = c.y - a.y, len = Math.hypot(ex, ey);
+    if ((ex * (y - a.y) - ey * (x - a.x)) / len < 0) inside = false;
+    const t = Math.max(0, Math.min(1, ((x - a.x) * ex + (y - a.y) * ey) / (len * len)));
+    d = Math.min(d, Math.hypot(x - a.x - t * ex, y - a.y - t * ey));
   }
+  return inside ? d : -d;
+}
+
+// BVH mode, clicking. A click inside one child's box on screen (and
+// outside the other's) descends into that child, as its key does; a click
+// on empty space changes nothing; a click does not move the camera. The
+// node is the first one, breadth first, whose children both have a part of
+// the screen to themselves (at the root of a Cornell box one child's box
+// holds the other's; the nearer box takes a click inside both).
+cases.bvh_click = async () => {
+  const flags = ['-r', '480', '360', '-s', '1', '-m', '1', '-t', '2', path.join(args.scenes, 'CBbunny.dae')];
+  await withViewerPage(flags, async (page, v, errors) => {
+    await page.keyboard.press('v');
+    await page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 60000});
+    const node = () => page.evaluate(() => Number(document.body.dataset.bvhNode));
+    const here = () => page.evaluate(() => {
+      const v3 = window.viewer.view3d;
+      return Object.assign(v3.nodeInfo(v3.state.node), {node: v3.state.node, text: document.getElementById('bvh-info').textContent});
+    });
+    const press = async (key) => {
+      const before = await node();
+      await page.keyboard.press(key);
+      await page.waitForFunction((n) => document.body.dataset.bvhNode !== String(n), before);
+    };
+    // Walks from the root along keys ('<', '>').
+    const goTo = async (keys) => {
+      while (await node() !== 0) await press('?');
+      for (const k of keys) await press(k);
+      return here();
+    };
+    // Each child's box projected by the page's own camera (three.js's
+    // project: the matrices it draws with) into page coordinates, and a
+    // 4-pixel grid over the canvas.
+    const project = (nodes) => page.evaluate((ks) => {
+      const v3 = window.viewer.view3d, cam = v3.three.camera, canvas = document.getElementById('three-canvas');
+      cam.updateMatrixWorld();
+      const r = canvas.getBoundingClientRect();
+      const corners = ks.map((k) => {
+        const b = v3.box(k), out = [];
+        for (let c = 0; c < 8; ++c) {
+          const p = cam.position.clone().set(c & 1 ? b.hi[0] : b.lo[0], c & 2 ? b.hi[1] : b.lo[1],
+                                             c & 4 ? b.hi[2] : b.lo[2]).project(cam);
+          out.push({x: r.left + (p.x + 1) / 2 * r.width, y: r.top + (1 - p.y) / 2 * r.height, z: p.z});
+        }
+        return out;
+      });
+      return {corners, rect: {left: r.left, top: r.top, right: r.right, bottom: r.bottom}, view: v3.view()};
+    }, nodes).then((g) => {
+      const r = g.rect, grid = [];
+      for (let y = r.top + 2; y < r.bottom - 2; y += 4) for (let x = r.left + 2; x < r.right - 2; x += 4) grid.push({x, y});
+      return Object.assign(g, {grid, centre: {x: (r.left + r.right) / 2, y: (r.top + r.bottom) / 2}});
+    });
+    // The grid point with the best score of at least 3 (pixels) where the
+    // canvas is on top (not the panel over it), or null.
+    const pick = async (grid, score) => {
+      const ranked = grid.map((p) => ({x: p.x, y: p.y, s: score(p)})).filter((p) => p.s >= 3).sort((a, c) => c.s - a.s);
+      for (let i = 0; i < ranked.length; i += 256) {
+        const hit = await page.evaluate((ps) => ps.find((p) => document.elementFromPoint(p.x, p.y) ===
+                                                             document.getElementById('three-canvas')), ranked.slice(i, i + 256));
+        if (hit) return hit;
+      }
+      return null;
+    };
+
+    // Breadth first over the top four levels, by the keys.
+    let found = null;
+    const queue = [[]];
+    while (queue.length && !found) {
+      const keys = queue.shift();
+      const at = await goTo(keys);
+      if (/\(leaf\)/.test(at.text) || keys.length > 3) continue;
+      const kids = [];
+      for (const k of ['<', '>']) {
+        await press(k);
+        kids.push(await here());
+        await press('?');
+      }
+      const geo = await project(kids.map((k) => k.node));
+      if (!geo.corners.flat().every((p) => p.z > -1 && p.z < 1)) continue;
+      // Page y grows downwards: flipped for the hull's orientation.
+      const polys = geo.corners.map((cs) => hull(cs.map((p) => ({x: p.x, y: -p.y}))));
+      const depth = (i, p) => polygonDepth(polys[i], p.x, -p.y);
+      // Deepest inside child i's outline and 3 pixels or more outside the
+      // other's; empty space: the point nearest the view's centre that is
+      // 10 pixels or more outside both.
+      const only = [await pick(geo.grid, (p) => Math.min(depth(0, p), -depth(1, p))),
+                    await pick(geo.grid, (p) => Math.min(depth(1, p), -depth(0, p)))];
+      const empty = await pick(geo.grid, (p) => (Math.min(-depth(0, p), -depth(1, p)) >= 10 ?
+        1e6 - Math.hypot(p.x - geo.centre.x, p.y - geo.centre.y) : 0));
+      if (only[0] && only[1] && empty) found = {keys, at, kids, only, empty, view: geo.view};
+      queue.push([...keys, '<'], [...keys, '>']);
+    }
+    check(found !== null, 'a node near the root has two children each with a part of the screen to itself');
+    if (!found) return;
+    const {at, kids, only, empty} = found;
+    console.log(`# node ${at.node} (keys ${found.keys.join(' ') || 'none'}), children ${kids.map((k) => k.node).join(', ')}`);
+    await goTo(found.keys);
+    // The picture: the node, its children's boxes, and where the clicks go
+    // (marks drawn over the page for the screenshot only).
+    const marks = (on) => page.evaluate(({pts, show}) => {
+      for (const m of document.querySelectorAll('.test-click-mark')) m.remove();
+      if (!show) return;
+      for (const [x, y, colour] of pts) {
+        const m = document.createElement('div');
+        m.className = 'test-click-mark';
+        m.style.cssText = `position: fixed; left: ${x - 6}px; top: ${y - 6}px; width: 8px; height: 8px; ` +
+                          `border: 2px solid ${colour}; border-radius: 50%; pointer-events: none; z-index: 9`;
+        document.body.appendChild(m);
+      }
+    }, {pts: [[empty.x, empty.y, '#fff'], [only[0].x, only[0].y, '#ff4d4d'], [only[1].x, only[1].y, '#4da6ff']], show: on});
+    await marks(true);
+    await page.screenshot({path: path.join(OUT, 'bvh_click_points.png')});
+    await marks(false);
+
+    // Each click's outcome, read by a listener that runs after the page's own.
+    await page.evaluate(() => {
+      window.clicksSeen = [];
+      window.addEventListener('mouseup', () => window.clicksSeen.push({
+        node: document.body.dataset.bvhNode, text: document.getElementById('bvh-info').textContent,
+        box: window.viewer.view3d.box(window.viewer.view3d.state.node), view: window.viewer.view3d.view(),
+      }));
+    });
+    const click = async (p) => {
+      const n = await page.evaluate(() => window.clicksSeen.length);
+      await page.mouse.click(p.x, p.y);
+      await page.waitForFunction((k) => window.clicksSeen.length > k, n);
+      return page.evaluate(() => window.clicksSeen.at(-1));
+    };
+    const e = await click(empty);
+    check(e.node === String(at.node) && e.text === at.text, `a click on empty space leaves node ${at.node} selected`,
+          `node ${e.node} after a click at (${empty.x}, ${empty.y})`);
+    check(JSON.stringify(e.view) === JSON.stringify(found.view), 'a click does not move the camera', JSON.stringify(e.view));
+    await goTo(found.keys);
+    const side = ['left', 'right'];
+    for (const i of [0, 1]) {
+      const k = kids[i];
+      const c = await click(only[i]);
+      check(c.node === String(k.node) && c.text === k.text,
+            `a click inside the ${side[i]} child's box selects it: node ${k.node}, its panel (${k.primitives} primitives)`,
+            `node ${c.node} after a click at (${only[i].x}, ${only[i].y}), panel: ${JSON.stringify(c.text)}`);
+      check(JSON.stringify(c.box) === JSON.stringify(k.box), `the current box is then the ${side[i]} child's`,
+            JSON.stringify({shown: c.box, child: k.box}));
+      await page.screenshot({path: path.join(OUT, `bvh_click_${side[i]}.png`)});
+      await goTo(found.keys);
+    }
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
+};
+
+// The course's rate colour of a rate in [0, 1] (blue 0, green 1/2, red 1),
+// as 8-bit RGB.
+function rateColour(r) {
+  const c = r < 0.5 ? [0, r / 0.5, 1 - r / 0.5] : [(r - 0.5) / 0.5, 1 - (r - 0.5) / 0.5, 0];
+  return c.map((x) => Math.round(255 * Math.fround(x)));
+}
+
+// The overlay canvas's pixels, as an array of RGBA bytes.
+function overlayPixels(page) {
+  return page.evaluate(() => {
+    const c = document.getElementById('overlay-canvas');
+    return Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data);
+  });
+}
+
+// Part 5's sample-rate overlay: after an adaptive render (-a 8 0.1: some
+// pixels stop after 8, 16, ... of their 64 samples) it shows exactly the
+// rate image the command line writes (_rate.png) at the same settings and
+// seed; its colours are the legend's, blue for pixels that stopped early,
+// red for those that took every sample; and with the overlay on, a
+// restarted render's overlay is the new render's.
+cases.rate_overlay = async () => {
+  const flags = ['-r', '64', '48', '-s', '64', '-a', '8', '0.1', '-l', '2', '-m', '2', '-t', '2'];
+  const cliRate = (seed) => {
+    const png = path.join(OUT, `cli_seed${seed}.png`);
+    runCli([...flags, '--seed', String(seed), '-f', png, SCENE()]);
+    return png.replace(/\.png$/, '_rate.png');
+  };
+  await withViewerPage([...flags, '--seed', '5', SCENE()], async (page, v, errors) => {
+    const end = await renderEnd(page, await lastJob(page));
+    check(end.state === 'done' && end.samples === 64, 'the adaptive render finishes at 64 samples per pixel', JSON.stringify(end));
+    await page.selectOption('#overlay', 'rate');
+    await page.waitForFunction(() => document.getElementById('overlay-note').textContent.startsWith('samples taken'));
+    const shown = await overlayPixels(page), cli = await pngPixels(page, cliRate(5));
+    check(cli.w === 64 && cli.h === 48 && sameArrays(shown, cli.data),
+          'the sample-rate overlay shows the command line\'s rate image (_rate.png) pixel for pixel');
+    // The legend: every pixel took a whole number of 8-sample batches, so
+    // its colour is the rate colour of k/8 for k = 1..8.
+    const legend = new Map([1, 2, 3, 4, 5, 6, 7, 8].map((k) => [rateColour(k / 8).join(), k]));
+    const batches = [];
+    for (let i = 0; i < shown.length; i += 4) batches.push(legend.get(shown.slice(i, i + 3).join()));
+    check(batches.every((k) => k !== undefined), 'every pixel has the colour of 8, 16, ... or 64 samples taken of 64',
+          JSON.stringify(shown.slice(0, 12)));
+    const count = (pred) => batches.filter(pred).length;
+    check(count((k) => k === 8) > 0 && count((k) => k <= 2) > 0,
+          'some pixels took every sample (red) and some stopped within two batches (blue-green)',
+          `${count((k) => k === 8)} red, ${count((k) => k <= 2)} at 8 or 16 samples`);
+    await page.screenshot({path: path.join(OUT, 'overlay_rate.png')});
+
+    // With the overlay on, a new seed restarts the render; the overlay is
+    // redrawn with each pass and ends as the new render's rate image.
+    await page.fill('input[name=seed]', '6');
+    await page.dispatchEvent('input[name=seed]', 'change');
+    const next = await waitEvent(page, `e.type === 'render' && e.job > ${end.job}`);
+    const nextEnd = await renderEnd(page, next.job);
+    check(nextEnd.state === 'done' && next.settings.seed === 6, 'the render restarts with seed 6 and finishes',
+          JSON.stringify(next.settings.seed));
+    const again = await overlayPixels(page), cli6 = await pngPixels(page, cliRate(6));
+    check(sameArrays(again, cli6.data) && !sameArrays(again, shown),
+          'the overlay then shows the new render\'s rate image (the command line\'s at --seed 6), not the old one');
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
+  });
 };
 
 // Requests without the token are refused; files outside the folders named
@@ -440,12 +681,7 @@ cases.token_and_paths = async () => {
 // A build whose part prints a stub's TODO line: the page says which part
 // and function, and still shows the image.
 cases.todo_banner = async () => {
-  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '2', '-t', '2', SCENE()], {PT_VIEWER_PLANT: 'todo'});
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '64', '48', '-s', '2', '-t', '2', SCENE()], async (page) => {
     const end = await renderEnd(page, await lastJob(page));
     const text = await page.locator('#banner').textContent();
     check(await page.locator('#banner').isVisible() &&
@@ -455,22 +691,13 @@ cases.todo_banner = async () => {
     const px = await canvasPixels(page);
     check(px.some((x, i) => i % 4 !== 3 && x > 0), 'the canvas is not blank');
     await page.screenshot({path: path.join(OUT, 'todo_banner.png')});
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'todo'}});
 };
 
 // A crash in a render (a planted null write) is reported in the page and
 // the server keeps serving: the next render works.
 cases.crash_reported = async () => {
-  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '2', '-t', '2', '--seed', '13', SCENE()],
-                              {PT_VIEWER_PLANT: 'crash'});
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '64', '48', '-s', '2', '-t', '2', '--seed', '13', SCENE()], async (page, v) => {
     const end = await renderEnd(page, await lastJob(page));
     const text = await page.locator('#banner').textContent();
     check(end.state === 'crashed', 'the render is reported as crashed', end.state);
@@ -493,46 +720,38 @@ cases.crash_reported = async () => {
     check(thrown.state === 'failed' && thrownText.includes('planted failure: a part threw an exception'),
           'an exception in a render is reported with its message', `${thrown.state}: ${thrownText}`);
     check(v.proc.exitCode === null, 'the server process is still running');
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'crash'}});
 };
 
 // One screenshot per mode at a realistic size (the README's pictures:
 // --publish DIR copies them there), and the 3D views draw something.
 cases.screenshots = async () => {
-  const v = await startViewer(args.viewer, ['-r', '480', '360', '-s', '16', '-l', '1', '-m', '3', '-t', '2',
-                                            path.join(args.scenes, 'CBbunny.dae')]);
-  const b = await openBrowser();
-  const shots = [];
-  // PNG artefacts; the README's copies (--publish) as small JPEGs of the same frame.
-  const shoot = async (name) => {
-    const clip = {x: 0, y: 0, width: 1280, height: 860};
-    await b.page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
-    if (args.publish) {
-      const file = path.join(OUT, name);
-      await b.page.screenshot({path: file, type: 'jpeg', quality: 82, clip});
-      shots.push(file);
-    }
-  };
-  // The WebGL canvas's pixels that are not the background.
-  const drawn = () => b.page.evaluate(() => {
-    const c = document.getElementById('three-canvas');
-    const g = document.createElement('canvas');
-    g.width = c.width;
-    g.height = c.height;
-    const x = g.getContext('2d');
-    x.drawImage(c, 0, 0);
-    const d = x.getImageData(0, 0, g.width, g.height).data;
-    let n = 0;
-    for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - 0x15) + Math.abs(d[i + 1] - 0x16) + Math.abs(d[i + 2] - 0x1a) > 30) ++n;
-    return n / (d.length / 4);
-  });
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  const flags = ['-r', '480', '360', '-s', '16', '-l', '1', '-m', '3', '-t', '2', path.join(args.scenes, 'CBbunny.dae')];
+  await withViewerPage(flags, async (page, v, errors) => {
+    const shots = [];
+    // PNG artefacts; the README's copies (--publish) as small JPEGs of the same frame.
+    const shoot = async (name) => {
+      const clip = {x: 0, y: 0, width: 1280, height: 860};
+      await page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
+      if (args.publish) {
+        const file = path.join(OUT, name);
+        await page.screenshot({path: file, type: 'jpeg', quality: 82, clip});
+        shots.push(file);
+      }
+    };
+    // The WebGL canvas's pixels that are not the background.
+    const drawn = () => page.evaluate(() => {
+      const c = document.getElementById('three-canvas');
+      const g = document.createElement('canvas');
+      g.width = c.width;
+      g.height = c.height;
+      const x = g.getContext('2d');
+      x.drawImage(c, 0, 0);
+      const d = x.getImageData(0, 0, g.width, g.height).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) if (Math.abs(d[i] - 0x15) + Math.abs(d[i + 1] - 0x16) + Math.abs(d[i + 2] - 0x1a) > 30) ++n;
+      return n / (d.length / 4);
+    });
     const end = await renderEnd(page, await lastJob(page));
     check(end.state === 'done', 'the render finishes');
     await shoot('render_mode.jpg');
@@ -561,15 +780,12 @@ cases.screenshots = async () => {
     await page.fill('#depth-slider', '6');
     await page.dispatchEvent('#depth-slider', 'input');
     await shoot('bvh_depth.jpg');
-    check(b.errors.length === 0, 'no script errors in the page', b.errors.join('; '));
+    check(errors.length === 0, 'no script errors in the page', errors.join('; '));
     if (args.publish) {
       fs.mkdirSync(args.publish, {recursive: true});
       for (const f of shots) fs.copyFileSync(f, path.join(args.publish, path.basename(f)));
     }
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  });
 };
 
 // Debug mode: the path inspector's total is the command line's pixel at
@@ -603,24 +819,19 @@ async function openDebug(page) {
 }
 
 cases.debug_tools = async () => {
-  const v = await startViewer(args.viewer, [...DEBUG_FLAGS, SCENE()]);
-  const b = await openBrowser();
-  // PNG artefacts; --publish DIR: the README's picture (a JPEG) of the path inspector.
-  const shoot = async (name) => {
-    const clip = {x: 0, y: 0, width: 1400, height: 900};
-    await b.page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
-    if (args.publish && name.endsWith('.jpg')) {
-      fs.mkdirSync(args.publish, {recursive: true});
-      await b.page.screenshot({path: path.join(args.publish, name), type: 'jpeg', quality: 82, clip});
-    }
-  };
-  try {
-    const {page} = b;
-    const pfmFile = path.join(OUT, 'cli.pfm');
-    runCli([...DEBUG_FLAGS, '--pfm', pfmFile, '-f', path.join(OUT, 'cli.png'), SCENE()]);
-    const cli = fs.readFileSync(pfmFile);
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  const pfmFile = path.join(OUT, 'cli.pfm');
+  runCli([...DEBUG_FLAGS, '--pfm', pfmFile, '-f', path.join(OUT, 'cli.png'), SCENE()]);
+  const cli = fs.readFileSync(pfmFile);
+  await withViewerPage([...DEBUG_FLAGS, SCENE()], async (page, v, errors) => {
+    // PNG artefacts; --publish DIR: the README's picture (a JPEG) of the path inspector.
+    const shoot = async (name) => {
+      const clip = {x: 0, y: 0, width: 1400, height: 900};
+      await page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
+      if (args.publish && name.endsWith('.jpg')) {
+        fs.mkdirSync(args.publish, {recursive: true});
+        await page.screenshot({path: path.join(args.publish, name), type: 'jpeg', quality: 82, clip});
+      }
+    };
     const end = await renderEnd(page, await lastJob(page));
     check(end.state === 'done', 'the render finishes', end.state);
     await openDebug(page);
@@ -773,25 +984,16 @@ cases.debug_tools = async () => {
     check(again.ok && v.proc.exitCode === null, 'the server keeps serving after the refusals', again.error);
     // The browser logs each refused request (HTTP 400) on the console; anything else is a fault.
     const refusedLog = (e) => /^Failed to load resource: the server responded with a status of 400/.test(e);
-    const refusals = b.errors.filter(refusedLog).length;
+    const refusals = errors.filter(refusedLog).length;
     check(refusals === 7, 'the seven refusals were HTTP 400', String(refusals));
-    check(b.errors.filter((e) => !refusedLog(e)).length === 0, 'no script errors in the page', b.errors.join('; '));
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+    check(errors.filter((e) => !refusedLog(e)).length === 0, 'no script errors in the page', errors.join('; '));
+  });
 };
 
 // A crash in the build's code during a Debug mode call is a message naming
 // the function; the next call works.
 cases.debug_crash = async () => {
-  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '1', '-t', '2', '--seed', '13', SCENE()],
-                              {PT_VIEWER_PLANT: 'crash'});
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '64', '48', '-s', '1', '-t', '2', '--seed', '13', SCENE()], async (page, v) => {
     await renderEnd(page, await lastJob(page));
     await openDebug(page);
     await page.click('#debug-tabs button[data-tool=intersect]');
@@ -807,22 +1009,14 @@ cases.debug_crash = async () => {
     check(ok.ok && ok.result.hit && ok.result.t === 2, 'the next call works (the default ray hits its triangle at t = 2)',
           JSON.stringify(ok.result || ok.error));
     check(v.proc.exitCode === null, 'the server process is still running');
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'crash'}});
 };
 
 // Unfinished code in a Debug mode call (the test build prints a stub's
 // TODO line in every worker): the banner names the part, the function and
 // the file, and the tool still answers.
 cases.debug_todo = async () => {
-  const v = await startViewer(args.planted, ['-r', '64', '48', '-s', '1', '-t', '2', SCENE()], {PT_VIEWER_PLANT: 'todo'});
-  const b = await openBrowser();
-  try {
-    const {page} = b;
-    await page.goto(v.url);
-    await page.waitForFunction(() => document.body.dataset.ready === '1');
+  await withViewerPage(['-r', '64', '48', '-s', '1', '-t', '2', SCENE()], async (page) => {
     await renderEnd(page, await lastJob(page));
     await openDebug(page);
     await page.click('#debug-tabs button[data-tool=intersect]');
@@ -833,50 +1027,42 @@ cases.debug_todo = async () => {
           text.includes('Part 1 not implemented (TODO: raytrace_pixel, stages/part1_raytracing/pixel_sampling.cpp)'),
           'the banner names the part, the function and the file', text);
     await page.screenshot({path: path.join(OUT, 'debug_todo.png')});
-  } finally {
-    await b.close();
-    await stopViewer(v);
-  }
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'todo'}});
 };
 
 // Not a test: timings for the report.
 async function measure() {
   const results = {};
   if (args.measure !== 'bvh') {
-    const v = await startViewer(args.viewer, ['-r', '480', '360', '-t', '2', '-s', '64', '-l', '4', '-m', '5',
-                                              SCENE()]);
-    const b = await openBrowser();
-    const t0 = Date.now();
-    await b.page.goto(v.url);
-    await b.page.waitForFunction(() => document.body.dataset.ready === '1');
-    const job = await lastJob(b.page);
-    await waitEvent(b.page, `e.type === 'frame' && e.job === ${job}`, 600000);
-    results.first_frame_ms_from_page_load = Date.now() - t0;
-    const end = await renderEnd(b.page, job, 600000);
-    const st = await b.page.evaluate(() => window.viewer.status);
-    results.frames = await b.page.evaluate((j) => window.viewer.events.filter((e) => e.type === 'frame' && e.job === j)
-      .map((e) => ({samples: e.samples, elapsed_s: e.elapsed, pass_s: e.seconds})), job);
-    results.passes = st.frame.pass + 1;
-    results.render_wall_s = st.wall;
-    results.passes_per_second = (st.frame.pass + 1) / st.wall;
-    results.end = end.state;
-    await b.close();
-    await stopViewer(v);
+    const flags = ['-r', '480', '360', '-t', '2', '-s', '64', '-l', '4', '-m', '5', SCENE()];
+    await withViewerPage(flags, async (page, v) => {
+      const t0 = Date.now();
+      await page.goto(v.url);
+      await page.waitForFunction(() => document.body.dataset.ready === '1');
+      const job = await lastJob(page);
+      await waitEvent(page, `e.type === 'frame' && e.job === ${job}`, 600000);
+      results.first_frame_ms_from_page_load = Date.now() - t0;
+      const end = await renderEnd(page, job, 600000);
+      const st = await page.evaluate(() => window.viewer.status);
+      results.frames = await page.evaluate((j) => window.viewer.events.filter((e) => e.type === 'frame' && e.job === j)
+        .map((e) => ({samples: e.samples, elapsed_s: e.elapsed, pass_s: e.seconds})), job);
+      results.passes = st.frame.pass + 1;
+      results.render_wall_s = st.wall;
+      results.passes_per_second = (st.frame.pass + 1) / st.wall;
+      results.end = end.state;
+    }, {load: false});
   }
-  {
-    const v = await startViewer(args.viewer, ['-r', '480', '360', '-t', '2', path.join(args.scenes, args.scene || 'CBdragon_large.dae')]);
-    const b = await openBrowser();
-    await b.page.goto(v.url);
-    await b.page.waitForFunction(() => document.body.dataset.ready === '1');
-    await b.page.keyboard.press('v');
-    await b.page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 600000});
+  const flags = ['-r', '480', '360', '-t', '2', path.join(args.scenes, args.scene || 'CBdragon_large.dae')];
+  await withViewerPage(flags, async (page) => {
+    await page.keyboard.press('v');
+    await page.waitForFunction(() => document.body.dataset.bvhNode === '0', null, {timeout: 600000});
     // What a frame looks like while the camera moves.
-    await b.page.evaluate(() => { window.viewer.view3d.moving(true); window.viewer.view3d.redraw(); });
-    await b.page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
-    await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large_moving.png')});
-    await b.page.evaluate(() => window.viewer.view3d.moving(false));
-    await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large_still.png')});
-    const m = await b.page.evaluate((n) => window.viewer.view3d.measure(n), Number(args.frames || 120));
+    await page.evaluate(() => { window.viewer.view3d.moving(true); window.viewer.view3d.redraw(); });
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+    await page.screenshot({path: path.join(OUT, 'bvh_dragon_large_moving.png')});
+    await page.evaluate(() => window.viewer.view3d.moving(false));
+    await page.screenshot({path: path.join(OUT, 'bvh_dragon_large_still.png')});
+    const m = await page.evaluate((n) => window.viewer.view3d.measure(n), Number(args.frames || 120));
     const stats = (xs) => {
       xs.sort((a, c) => a - c);
       return {late: xs.filter((x) => x > 20).length / xs.length, median: xs[Math.floor(xs.length / 2)], p95: xs[Math.floor(xs.length * 0.95)], max: xs[xs.length - 1]};
@@ -886,10 +1072,8 @@ async function measure() {
     results.bvh_frame_ms = stats(m.frames);
     results.bvh_draw_ms = stats(m.draws);
     results.bvh_triangles_drawn_while_moving = m.triangles;
-    await b.page.screenshot({path: path.join(OUT, 'bvh_dragon_large.png')});
-    await b.close();
-    await stopViewer(v);
-  }
+    await page.screenshot({path: path.join(OUT, 'bvh_dragon_large.png')});
+  });
   console.log(JSON.stringify(results, null, 2));
 }
 

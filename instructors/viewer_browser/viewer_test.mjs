@@ -428,7 +428,8 @@ function polygonDepth(poly, x, y) {
 // on empty space changes nothing; a click does not move the camera. The
 // node is the first one, breadth first, whose children both have a part of
 // the screen to themselves (at the root of a Cornell box one child's box
-// holds the other's; the nearer box takes a click inside both).
+// holds the other's, checked last: there the inner box takes a click
+// inside both).
 cases.bvh_click = async () => {
   const flags = ['-r', '480', '360', '-s', '1', '-m', '1', '-t', '2', path.join(args.scenes, 'CBbunny.dae')];
   await withViewerPage(flags, async (page, v, errors) => {
@@ -564,6 +565,34 @@ cases.bvh_click = async () => {
             JSON.stringify({shown: c.box, child: k.box}));
       await page.screenshot({path: path.join(OUT, `bvh_click_${side[i]}.png`)});
       await goTo(found.keys);
+    }
+
+    // At the root one child's box holds the other's (the walls' box holds
+    // the bunny's): a click inside the inner one's outline selects it,
+    // though the ray enters the outer box first.
+    await goTo([]);
+    const rootKids = [];
+    for (const k of ['<', '>']) {
+      await press(k);
+      rootKids.push(await here());
+      await press('?');
+    }
+    const holds = (a, b) => [0, 1, 2].every((k) => a.box.lo[k] <= b.box.lo[k] && b.box.hi[k] <= a.box.hi[k]);
+    const inner = holds(rootKids[0], rootKids[1]) ? 1 : holds(rootKids[1], rootKids[0]) ? 0 : -1;
+    check(inner >= 0, 'at the root of CBbunny one child\'s box holds the other\'s',
+          JSON.stringify(rootKids.map((k) => k.box)));
+    if (inner >= 0) {
+      const geo = await project(rootKids.map((k) => k.node));
+      const poly = hull(geo.corners[inner].map((p) => ({x: p.x, y: -p.y})));
+      const spot = await pick(geo.grid, (p) => polygonDepth(poly, p.x, -p.y));
+      check(spot !== null, 'the inner child\'s box has a part of the screen');
+      if (spot) {
+        const c = await click(spot);
+        check(c.node === String(rootKids[inner].node),
+              `a click inside the inner (${side[inner]}) child's box, which the outer one also covers, selects it: node ${rootKids[inner].node}`,
+              `node ${c.node} after a click at (${spot.x}, ${spot.y})`);
+        await page.screenshot({path: path.join(OUT, 'bvh_click_inner.png')});
+      }
     }
     check(errors.length === 0, 'no script errors in the page', errors.join('; '));
   });

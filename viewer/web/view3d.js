@@ -594,17 +594,40 @@ export function create(viewer, hooks) {
     const ndc = new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
     const ray = new THREE.Raycaster();
     ray.setFromCamera(ndc, camera);
-    let best = null;
+    // Each child's box the ray passes through, with where it enters and
+    // leaves it. The nearer box wins, unless the ray's stretch in one box
+    // lies within its stretch in the other (one box inside the other, as at
+    // the root of a Cornell box, where the mesh's box sits inside the
+    // walls'): then the inner box wins, or it could never be clicked.
+    const hits = [];
     for (const [k, side] of children(bvh, state.node).map((c, j) => [c, j ? 'right' : 'left'])) {
-      const b = box(bvh, k);
-      const hit = ray.ray.intersectBox(new THREE.Box3(new THREE.Vector3(...b.lo), new THREE.Vector3(...b.hi)),
-                                       new THREE.Vector3());
-      if (hit) {
-        const d = hit.distanceTo(camera.position);
-        if (!best || d < best.d) best = {d, side};
-      }
+      const span = raySpan(ray.ray, box(bvh, k));
+      if (span) hits.push(Object.assign(span, {side}));
     }
-    if (best) go(best.side);
+    if (!hits.length) return;
+    hits.sort((a, b) => a.enter - b.enter);
+    const [near, far] = hits;
+    const inner = far && far.leave <= near.leave ? far : near;
+    go(inner.side);
+  }
+
+  // Where a ray enters and leaves a box ({enter, leave}, distances along
+  // the ray from its origin, enter 0 when it starts inside), or null when it
+  // misses the box.
+  function raySpan(r, b) {
+    let enter = 0, leave = Infinity;
+    for (const [k, axis] of [[0, 'x'], [1, 'y'], [2, 'z']]) {
+      const o = r.origin[axis], d = r.direction[axis];
+      if (d === 0) {
+        if (o < b.lo[k] || o > b.hi[k]) return null;
+        continue;
+      }
+      let t0 = (b.lo[k] - o) / d, t1 = (b.hi[k] - o) / d;
+      if (t0 > t1) [t0, t1] = [t1, t0];
+      enter = Math.max(enter, t0);
+      leave = Math.min(leave, t1);
+    }
+    return enter <= leave ? {enter, leave} : null;
   }
 
   $('btn-parent').addEventListener('click', () => go('parent'));

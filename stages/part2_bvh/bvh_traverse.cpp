@@ -6,6 +6,8 @@
 #include "stages/part2_bvh/bvh.h"
 #include "stages/part2_bvh/slab_test.h"
 // BEGIN SOLUTION
+#include <functional>
+
 #include "stages/part2_bvh/bvh_wide.h"
 // END SOLUTION
 #include "stages/part1_raytracing/sphere.h"
@@ -45,6 +47,33 @@ inline void prefetch_shading(const std::vector<Triangle>& triangles, uint32_t id
   _mm_prefetch(reinterpret_cast<const char*>(&triangles[id].material), _MM_HINT_T0);
 }
 
+// Takes up the children of `n` in `mask` (at least one; entry distances in
+// t): returns the one to visit next and pushes the others so that they pop
+// in the order `before` gives (before(a, b): a child entered at a is
+// visited before one entered at b). Insertion into the few just pushed.
+template <typename Before>
+inline WideEntry enter_children(const WideNode& n, int mask, const float* t, Before before, WideEntry* stack,
+                                int& sp) {
+  const int c = lowest_bit(mask);
+  mask &= mask - 1;
+  if (mask == 0) return {n.child[c], n.count[c], t[c]};  // one child: no stack at all
+  WideEntry* const base = stack + sp;
+  int top = sp;
+  stack[top++] = {n.child[c], n.count[c], t[c]};
+  for (; mask != 0; mask &= mask - 1) {
+    const int k = lowest_bit(mask);
+    const WideEntry e{n.child[k], n.count[k], t[k]};
+    int j = top++;
+    while (stack + j > base && before(stack[j - 1].t, e.t)) {
+      stack[j] = stack[j - 1];
+      --j;
+    }
+    stack[j] = e;
+  }
+  sp = top - 1;
+  return stack[sp];
+}
+
 // The wide tree is at most as deep as the binary one (under 128 levels, see
 // bvh_build.cpp), and a wide node pushes at most all its children but one.
 constexpr int kStackSize = (kWideWidth - 1) * 128 + kWideWidth;
@@ -80,28 +109,9 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
       // one and push the others, farthest first.
       const WideNode& n = wide_.nodes[cur.child];
       alignas(16) float t[kWideWidth];
-      int mask = wide_box_test(n, wr, t_min, _mm_set1_ps(r.max_t), t);
+      const int mask = wide_box_test(n, wr, t_min, _mm_set1_ps(r.max_t), t);
       if (mask != 0) {
-        const int c = lowest_bit(mask);
-        mask &= mask - 1;
-        if (mask == 0) {  // one child: no stack at all
-          cur = {n.child[c], n.count[c], t[c]};
-          continue;
-        }
-        WideEntry* const base = stack + sp;
-        stack[sp++] = {n.child[c], n.count[c], t[c]};
-        for (; mask != 0; mask &= mask - 1) {
-          const int k = lowest_bit(mask);
-          // Insertion into [base, sp) sorted by decreasing t.
-          WideEntry e{n.child[k], n.count[k], t[k]};
-          int j = sp++;
-          while (stack + j > base && stack[j - 1].t < e.t) {
-            stack[j] = stack[j - 1];
-            --j;
-          }
-          stack[j] = e;
-        }
-        cur = stack[--sp];
+        cur = enter_children(n, mask, t, std::less<float>(), stack, sp);
         continue;
       }
     } else {
@@ -193,28 +203,9 @@ bool BVH::occluded(const Ray& ray) const {
       // nearest first (bvh_wide.h says why far first).
       const WideNode& n = wide_.nodes[cur.child];
       alignas(16) float t[kWideWidth];
-      int mask = wide_box_test(n, wr, t_min, t_max, t);
+      const int mask = wide_box_test(n, wr, t_min, t_max, t);
       if (mask != 0) {
-        const int c = lowest_bit(mask);
-        mask &= mask - 1;
-        if (mask == 0) {
-          cur = {n.child[c], n.count[c], t[c]};
-          continue;
-        }
-        WideEntry* const base = stack + sp;
-        stack[sp++] = {n.child[c], n.count[c], t[c]};
-        for (; mask != 0; mask &= mask - 1) {
-          const int k = lowest_bit(mask);
-          // Insertion into [base, sp) sorted by increasing t.
-          WideEntry e{n.child[k], n.count[k], t[k]};
-          int j = sp++;
-          while (stack + j > base && stack[j - 1].t > e.t) {
-            stack[j] = stack[j - 1];
-            --j;
-          }
-          stack[j] = e;
-        }
-        cur = stack[--sp];
+        cur = enter_children(n, mask, t, std::greater<float>(), stack, sp);
         continue;
       }
     } else {

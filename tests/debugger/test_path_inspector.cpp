@@ -32,6 +32,7 @@
 #include "stages/part1_raytracing/pixel_sampling.h"
 #include "pathtracer/render_job.h"
 #include "tests/statistics/analytic_scenes.h"
+#include "tests/debugger/json_read.h"
 #include "tests/support.h"
 #include "common/todo.h"
 
@@ -240,25 +241,6 @@ class JsonCheck {
   size_t i_ = 0;
 };
 
-
-// A float as the page reads it back: a number, or "nan", "inf", "-inf".
-float read_float(const Json* v) {
-  if (v == nullptr) throw std::runtime_error("missing float");
-  if (v->type == Json::Type::String) {
-    if (v->string == "nan") return std::numeric_limits<float>::quiet_NaN();
-    if (v->string == "inf") return kInfinity;
-    if (v->string == "-inf") return -kInfinity;
-    throw std::runtime_error("not a float: \"" + v->string + "\"");
-  }
-  if (v->type != Json::Type::Number) throw std::runtime_error("not a float");
-  return float(v->number);
-}
-
-Color read_color(const Json* v) {
-  if (v == nullptr || v->array.size() != 3) throw std::runtime_error("not three floats");
-  return Color(read_float(&v->array[0]), read_float(&v->array[1]), read_float(&v->array[2]));
-}
-
 // What the page reads from a record's JSON is the record: its figures bit
 // for bit, every step, light sample and note.
 void check_read_back(const debug::PathRecord& rec, const Json& j) {
@@ -271,15 +253,15 @@ void check_read_back(const debug::PathRecord& rec, const Json& j) {
   CHECK(j.str("seed") == std::to_string(rec.seed));
   CHECK(j.num("samples_taken") == rec.samples_taken);
   CHECK(j.flag("camera_hit") == rec.camera_hit);
-  CHECK(same_bits(read_color(j.get("returned")), rec.returned));
-  CHECK(same_bits(read_color(j.get("sum_of_contributions")), rec.sum_of_contributions));
-  CHECK(same_bits(read_color(j.get("zero_bounce")), rec.zero_bounce));
+  CHECK(same_bits(read_vec(j.get("returned")), rec.returned));
+  CHECK(same_bits(read_vec(j.get("sum_of_contributions")), rec.sum_of_contributions));
+  CHECK(same_bits(read_vec(j.get("zero_bounce")), rec.zero_bounce));
   CHECK(j.flag("exact") == rec.exact);
   CHECK(j.flag("agrees") == rec.agrees);
   CHECK(j.str("end") == rec.end);
   CHECK(j.str("error") == rec.error);
   REQUIRE(j.get("camera_ray") != nullptr);
-  CHECK(same_bits(read_color(j.get("camera_ray")->get("direction")), rec.camera_ray.d));
+  CHECK(same_bits(read_vec(j.get("camera_ray")->get("direction")), rec.camera_ray.d));
   const Json* steps = j.get("steps");
   REQUIRE(steps != nullptr);
   REQUIRE(steps->array.size() == rec.steps.size());
@@ -288,16 +270,16 @@ void check_read_back(const debug::PathRecord& rec, const Json& j) {
     const debug::PathStep& step = rec.steps[k];
     CHECK(s.num("bounce") == step.bounce);
     CHECK(s.str("material") == step.material);
-    CHECK(same_bits(read_color(s.get("point")), step.point));
-    CHECK(same_bits(read_color(s.get("path_weight")), step.path_weight));
-    CHECK(same_bits(read_color(s.get("radiance_added")), step.radiance_added));
+    CHECK(same_bits(read_vec(s.get("point")), step.point));
+    CHECK(same_bits(read_vec(s.get("path_weight")), step.path_weight));
+    CHECK(same_bits(read_vec(s.get("radiance_added")), step.radiance_added));
     const Json* ls = s.get("light_samples");
     const Json* hs = s.get("hemisphere_samples");
     CHECK((ls ? ls->array.size() : 0) == step.light_samples.size());
     CHECK((hs ? hs->array.size() : 0) == step.hemisphere_samples.size());
     for (size_t i = 0; ls && i < std::min(ls->array.size(), step.light_samples.size()); ++i) {
       CHECK(ls->array[i].str("verdict") == step.light_samples[i].verdict);
-      CHECK(same_bits(read_color(ls->array[i].get("contribution")), step.light_samples[i].contribution));
+      CHECK(same_bits(read_vec(ls->array[i].get("contribution")), step.light_samples[i].contribution));
     }
   }
   const Json* notes = j.get("notes");

@@ -23,6 +23,7 @@
 #include "common/json.h"
 #include "viewer/debugger/json_values.h"
 #include "stages/part1_raytracing/sphere.h"
+#include "tests/debugger/json_read.h"
 #include "tests/support.h"
 #include "stages/part1_raytracing/triangle.h"
 
@@ -35,24 +36,6 @@ const float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 bool same(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 bool same(const Vec3& a, const Vec3& b) { return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z); }
-
-// A float as the page reads it back: a number, or "nan", "inf", "-inf".
-float read_float(const Json* v) {
-  if (v == nullptr) throw std::runtime_error("missing float");
-  if (v->type == Json::Type::String) {
-    if (v->string == "nan") return kNaN;
-    if (v->string == "inf") return kInfinity;
-    if (v->string == "-inf") return -kInfinity;
-    throw std::runtime_error("not a float: \"" + v->string + "\"");
-  }
-  if (v->type != Json::Type::Number) throw std::runtime_error("not a float");
-  return float(v->number);
-}
-
-Vec3 read_vec(const Json* v) {
-  if (v == nullptr || v->array.size() != 3) throw std::runtime_error("not three floats");
-  return Vec3(read_float(&v->array[0]), read_float(&v->array[1]), read_float(&v->array[2]));
-}
 
 // A parsed value laid out on one line (objects and arrays), so that a whole
 // result compares with one string.

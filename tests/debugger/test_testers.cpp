@@ -37,6 +37,20 @@ const float kNaN = std::numeric_limits<float>::quiet_NaN();
 bool same(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 bool same(const Vec3& a, const Vec3& b) { return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z); }
 
+// `call` throws an InputError whose message is one line naming `mentions`.
+template <typename Call>
+void check_refused(Call call, const std::string& mentions) {
+  try {
+    call();
+    FAIL("accepted");
+  } catch (const debug::InputError& e) {
+    const std::string m = e.what();
+    INFO(m);
+    CHECK(m.find('\n') == std::string::npos);
+    CHECK(m.find(mentions) != std::string::npos);
+  }
+}
+
 // A parsed value laid out on one line (objects and arrays), so that a whole
 // result compares with one string.
 Json on_one_line(Json v) {
@@ -165,18 +179,12 @@ TEST_CASE("the intersection tester refuses absurd rays and shapes with a one-lin
   const auto refused = [&](const debug::RayInput& in, const Sphere& sphere, const std::string& mentions) {
     for (int shape = 0; shape < 2; ++shape) {
       INFO("expecting a message about " << mentions << (shape ? " (sphere)" : " (triangle)"));
-      try {
+      check_refused([&] {
         if (shape)
           debug::test_ray_sphere(sphere, in);
         else
           debug::test_ray_triangle(tri, in);
-        FAIL("accepted");
-      } catch (const debug::InputError& e) {
-        const std::string m = e.what();
-        INFO(m);
-        CHECK(m.find('\n') == std::string::npos);
-        CHECK(m.find(mentions) != std::string::npos);
-      }
+      }, mentions);
     }
   };
   const Vec3 o(0, 0, 5), d(0, 0, -1);
@@ -241,15 +249,7 @@ TEST_CASE("the light-sample tester refuses absurd input with a one-line InputErr
   const Vec3 p(0, 0.5f, 0), n(0, 1, 0);
   const auto refused = [&](int light, const Vec3& point, const Vec3& normal, int count, const std::string& mentions) {
     INFO("expecting a message about " << mentions);
-    try {
-      debug::sample_light_many(scene, light, point, normal, count, 1);
-      FAIL("accepted");
-    } catch (const debug::InputError& e) {
-      const std::string m = e.what();
-      INFO(m);
-      CHECK(m.find('\n') == std::string::npos);
-      CHECK(m.find(mentions) != std::string::npos);
-    }
+    check_refused([&] { debug::sample_light_many(scene, light, point, normal, count, 1); }, mentions);
   };
   refused(lights, p, n, 4, "light " + std::to_string(lights));
   refused(-1, p, n, 4, "light -1");

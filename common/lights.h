@@ -1,6 +1,9 @@
 // Light sampling: from a shading point, a direction toward the light with
 // its distance, the pdf of having chosen it (per unit solid angle; 1 for
-// delta lights) and the radiance arriving along it.
+// delta lights) and the radiance arriving along it. As in the course, the
+// pdf is always positive and a sample that brings no light (the back of a
+// one-sided area light) has zero radiance, so that the course's
+// f * L * cos / pdf is 0 there, never 0 / 0.
 #pragma once
 #include <limits>
 
@@ -12,8 +15,8 @@ namespace pt {
 struct LightSample {
   Vec3 wi;                 // unit world direction from the point toward the light
   float distance = 0;      // to the sampled point on the light; infinite for lights at infinity
-  float pdf = 0;           // solid-angle pdf; 1 for delta lights; 0 = no contribution
-  Color radiance{0.0f};    // arriving along -wi at the point (before the BSDF and cosine)
+  float pdf = 1;           // solid-angle pdf; 1 for delta lights; always > 0
+  Color radiance{0.0f};    // arriving along -wi at the point (before the BSDF and cosine); 0 = no light
 };
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
@@ -31,11 +34,12 @@ inline LightSample sample_light(const Light& light, const Vec3& p, float u1, flo
       const Vec3 q = light.position + light.dim_x * (u1 - 0.5f) + light.dim_y * (u2 - 0.5f);
       const Vec3 d = q - p;
       const float d2 = norm2(d);
+      s.wi = -light.direction;  // (on the light itself: no light, any unit direction)
       if (!(d2 > 0)) return s;
       s.distance = std::sqrt(d2);
       s.wi = d / s.distance;
       const float cos_light = -dot(s.wi, light.direction);  // the light emits along `direction`
-      if (cos_light <= 0) return s;                         // behind a one-sided light
+      if (cos_light <= 0) return s;                         // behind a one-sided light: no light
       const float area = norm(cross(light.dim_x, light.dim_y));
       s.pdf = d2 / (area * cos_light);
       s.radiance = light.radiance;
@@ -44,9 +48,9 @@ inline LightSample sample_light(const Light& light, const Vec3& p, float u1, flo
     case LightType::Point: {
       const Vec3 d = light.position - p;
       s.distance = norm(d);
+      s.wi = Vec3(0, 1, 0);  // (at the light itself: no light, any unit direction)
       if (!(s.distance > 0)) return s;
       s.wi = d / s.distance;
-      s.pdf = 1.0f;
       const float att = light.constant_attenuation + light.linear_attenuation * s.distance +
                         light.quadratic_attenuation * s.distance * s.distance;
       s.radiance = att > 0 ? light.radiance / att : Color(0.0f);
@@ -55,7 +59,6 @@ inline LightSample sample_light(const Light& light, const Vec3& p, float u1, flo
     case LightType::Directional:
       s.wi = -light.direction;
       s.distance = kInfinity;
-      s.pdf = 1.0f;
       s.radiance = light.radiance;
       return s;
     case LightType::Environment: {

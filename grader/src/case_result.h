@@ -25,6 +25,7 @@ struct CaseResult {
   std::string message;       // one line: why it passed or failed
   std::string metric;        // the statistics, short
   double relmse = -1;        // -1: not scored
+  double noise_ratio = -1;   // the candidate's variance over the reference's (-1: not measured)
   double seconds = 0;        // wall-clock of the candidate's render(s)
   double render_seconds = -1;   // the renderer's own figure, when reported
   double reference_seconds = -1;

@@ -79,11 +79,12 @@ std::vector<Tally> grade_tasks(const Common& common, const std::vector<Case>& ca
   std::mutex mu;
   std::atomic<int> done{0};
   const RunSettings run = common.run_settings();
+  const Rules rules = make_rules(read_cases(common.cases), common.references);
   parallel_for(int(tasks.size()), common.jobs, [&](int t) {
     const Task& task = tasks[size_t(t)];
     const Case& c = cases[task.case_index];
     const std::string dir = work + "/" + c.name + "_" + std::to_string(task.seed);
-    CaseResult r = grade_case(run, common.references, c, task.seed, dir, CostBounds());
+    CaseResult r = grade_case(run, common.references, c, task.seed, dir, rules);
     std::error_code ec;
     fs::remove_all(dir, ec);
     std::lock_guard<std::mutex> lock(mu);

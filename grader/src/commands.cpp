@@ -117,13 +117,13 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
   std::mutex mu;
   int done = 0;
   const RunSettings run = common.run_settings();
-  const CostBounds bounds;
+  const Rules rules = make_rules(read_cases(common.cases), common.references);
   parallel_for(int(cases.size()), common.jobs, [&](int i) {
     const Case& c = cases[size_t(i)];
     const std::string dir = out + "/cases/" + c.name;
     CaseResult r;
     try {
-      r = grade_case(run, common.references, c, seed, dir, bounds);
+      r = grade_case(run, common.references, c, seed, dir, rules);
     } catch (const std::exception& e) {
       r.c = c;
       r.max_score = c.points;
@@ -207,17 +207,17 @@ std::string as_typed(const std::string& path) {
 
 }  // namespace
 
-int command_compare(const Common& common, bool list, const std::string& name, const std::string& file,
+int command_compare(const Common& common, bool list, const std::string& name, const std::vector<std::string>& files,
                     const std::string& out) {
   const std::vector<Case> cases = read_cases(common.cases);
   if (list) {
     print_case_commands(cases, as_typed(common.pathtracer), as_typed(common.scenes));
     return kAllPassed;
   }
-  if (name.empty() || file.empty())
+  if (name.empty() || files.empty())
     throw std::runtime_error("compare: give a case and your render (grader compare CASE FILE), or --list");
   for (const Case& c : cases)
-    if (c.name == name) return compare_render(c, common.references, file, out);
+    if (c.name == name) return compare_render(c, common.references, files, out, make_rules(cases, common.references));
   throw std::runtime_error(common.cases + ": no case named '" + name + "' (grader compare --list shows them)");
 }
 

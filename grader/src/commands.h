@@ -67,7 +67,7 @@ std::string git_commit();
 
 int command_run(const Common& common, const std::string& out, uint64_t seed, bool quiet);
 int command_merge(const Common& common, const std::string& out, const std::vector<std::string>& shard_dirs);
-int command_compare(const Common& common, bool list, const std::string& name, const std::string& file,
+int command_compare(const Common& common, bool list, const std::string& name, const std::vector<std::string>& files,
                     const std::string& out);
 int command_make_references(const Common& common, int runs, bool force, int retime, const std::string& work);
 int command_calibrate(const Common& common, int seeds, uint64_t first_seed, const std::string& table,

@@ -24,7 +24,8 @@ struct Options {
   int seeds = 50;  // calibrate
   uint64_t first_seed = 2000;
   std::string table = std::string(PT_SOURCE_DIR) + "/grader/tables/calibration.md";
-  std::string compare_case, compare_file, compare_out = ".";  // compare
+  std::string compare_case, compare_out = ".";
+  std::vector<std::string> compare_files;  // compare
   bool list = false;
   std::vector<std::string> shard_dirs;  // merge
 };
@@ -64,7 +65,9 @@ CLI::App* add_compare(CLI::App& app, Common& common, Options& o) {
   CLI::App* compare = app.add_subcommand(
       "compare", "Compare your render of a case (PFM or PNG) with its reference; --list prints the cases' commands");
   compare->add_option("case", o.compare_case, "The case your render is of (see --list)");
-  compare->add_option("file", o.compare_file, "Your render: a .pfm (full statistics) or a .png (8-bit comparison)");
+  compare->add_option("files", o.compare_files,
+                      "Your render: a .pfm (full statistics) or a .png (8-bit comparison); several .pfm renders at "
+                      "different seeds are judged with their own noise, as grader run does");
   compare->add_flag("--list", o.list, "Print every case with the command that renders it");
   compare->add_option("-o,--out", o.compare_out, "Where compare_CASE.png and .html go")->capture_default_str();
   compare->add_option("--cases", common.cases, "The case list")->capture_default_str();
@@ -106,7 +109,7 @@ int main(int argc, char** argv) {
     if (*make) return command_make_references(common, o.runs, o.force, o.retime, o.work);
     if (*calibrate) return command_calibrate(common, o.seeds, o.first_seed, o.table, o.work + "/calibrate");
     if (*merge) return command_merge(common, o.out, o.shard_dirs);
-    if (*compare) return command_compare(common, o.list, o.compare_case, o.compare_file, o.compare_out);
+    if (*compare) return command_compare(common, o.list, o.compare_case, o.compare_files, o.compare_out);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grader: %s\n", e.what());
     return kUsageError;

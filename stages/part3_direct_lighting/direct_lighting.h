@@ -17,10 +17,6 @@ struct ShadingContext {
   bool course_area_pdf = false; // reproduce the course's area-light pdf (see docs/differences.md)
 };
 
-// Offset of shadow and bounce rays from the surface (min_t), and how far
-// short of a sampled light a shadow ray stops (max_t = distance - eps).
-constexpr float kRayEpsilon = 1e-4f;
-
 // Light emitted by the surface `hit` toward the ray's origin (emission is
 // seen from both sides).
 Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit);

@@ -190,7 +190,6 @@ class Recorder final : public PathRecorder {
   }
 
  private:
-  static bool is_black(const Color& c) { return c.x == 0 && c.y == 0 && c.z == 0; }
 
   // Steps the mirror generator to the live one, keeping the numbers drawn.
   void sync() {
@@ -265,7 +264,9 @@ class Recorder final : public PathRecorder {
     const Vec3 wi_local = local.to_local(ls.sample.wi);
     ls.cos_theta = wi_local.z;
     ls.bsdf = bsdf_f(material(step.hit.material), local.to_local(-step.ray.d), wi_local);
-    ls.verdict = !(ls.sample.pdf > 0) ? "zero pdf" : ls.cos_theta <= 0 ? "below the surface" : "not traced";
+    ls.verdict = is_black(ls.sample.radiance) ? "no light (the back of the light)"
+                 : ls.cos_theta <= 0          ? "below the surface"
+                                              : "not traced";
     return ls;
   }
 

@@ -83,6 +83,17 @@ std::vector<CaseResultField> make_fields() {
   f.push_back(number("triangles", &CaseResult::triangles, -1));
   f.push_back(number("part1_seconds", &CaseResult::part1_seconds, -1));
   f.push_back(number("speedup", &CaseResult::speedup, -1));
+  f.push_back({"signature",
+               [](const CaseResult& r) {
+                 Json o = pt::json_object();
+                 for (const auto& [key, value] : r.signature) o.set(key, pt::json_real(value));
+                 return o;
+               },
+               [](const Json& m, CaseResult* r) {
+                 r->signature.clear();
+                 for (const auto& [key, value] : m.members)
+                   if (value.type == Json::Type::Number) r->signature[key] = value.number;
+               }});
   f.push_back(text("command", &CaseResult::command));
   f.push_back({"scene", [](const CaseResult& r) { return pt::json_text(r.c.scene); },
                [](const Json& m, CaseResult* r) { r->c.scene = string_of(m); }});

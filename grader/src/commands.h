@@ -70,8 +70,12 @@ int command_merge(const Common& common, const std::string& out, const std::vecto
 int command_compare(const Common& common, bool list, const std::string& name, const std::vector<std::string>& files,
                     const std::string& out);
 int command_make_references(const Common& common, int runs, bool force, int retime, const std::string& work);
-int command_calibrate(const Common& common, int seeds, uint64_t first_seed, const std::string& table,
-                      const std::string& work);
+// A build to calibrate: a name for the table and its pathtracer.
+struct Build {
+  std::string name, pathtracer;
+};
+int command_calibrate(const Common& common, const std::vector<Build>& extra_builds, int seeds, uint64_t first_seed,
+                      const std::string& table, const std::string& work);
 
 }  // namespace cli
 }  // namespace grader

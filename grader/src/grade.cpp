@@ -4,6 +4,7 @@
 #include <map>
 
 #include "grader/src/pictures.h"
+#include "grader/src/signature.h"
 
 namespace grader {
 
@@ -62,6 +63,29 @@ double rate_step(const Case& c) {
   const int max_samples = std::max(1, case_int_option(c, "-s", 1));
   const int batch = std::max(1, case_int_option(c, "-a", 32));
   return std::min(1.0, double(batch) / max_samples);
+}
+
+// What went wrong with a render that could not be judged, as a signature
+// entry: failure_nan, failure_negative, failure_todo, failure_crash,
+// failure_timeout, failure_exit or failure_output.
+std::string failure_kind(const RenderOutput& out) {
+  if (out.stopped_at_todo || !out.todo.empty()) return "failure_todo";
+  if (out.child.timed_out) return "failure_timeout";
+  if (out.child.signal != 0) return "failure_crash";
+  if (!out.child.started || out.child.exit_code != 0) return "failure_exit";
+  if (out.failure.find("NaN") != std::string::npos) return "failure_nan";
+  if (out.failure.find("negative") != std::string::npos) return "failure_negative";
+  return "failure_output";
+}
+
+// Cost ratios against the reference's figures, for the signature.
+void add_cost_signature(const CaseResult& r, Signature* s) {
+  const auto ratio = [&](const char* key, double mine, double ref) {
+    if (mine >= 0 && ref > 0) (*s)[key] = mine / ref;
+  };
+  ratio("closest_tests_ratio", r.closest_tests, r.reference_closest_tests);
+  ratio("shadow_tests_ratio", r.shadow_tests, r.reference_shadow_tests);
+  ratio("shadow_rays_ratio", r.shadow_per_query, r.reference_shadow_per_query);
 }
 
 // The candidate's renders of a case, with their statistics summed.
@@ -185,13 +209,16 @@ void decide(const std::vector<Check>& checks, CaseResult* r) {
 }
 
 // The sample-rate images of an adaptive case, scored as an image of their own.
-Check rate_check(const Case& c, const Reference& ref, const Renders& rs, const Rules& rules) {
+Check rate_check(const Case& c, const Reference& ref, const Renders& rs, const Rules& rules, Signature* signature) {
   ScoreOptions ro;
   ro.channels = 1;           // the rate is in every channel
   ro.variance_floor = 1e-3;  // rates move in steps of one batch
   ro.pixel_slack = rate_step(c);
   ro.block_alpha = ro.mean_alpha = 0.5 * rules.image_alpha();
-  return check_rate_image(score_renders(rs.rate, ref.rate_mean, ref.rate_variance, ref.runs, ro), c.points);
+  const ImageScore rate = score_renders(rs.rate, ref.rate_mean, ref.rate_variance, ref.runs, ro);
+  if (rate.mean_reference > 0) (*signature)["rate_ratio"] = rate.mean_candidate / rate.mean_reference;
+  if (rate.channels_tested > 0) (*signature)["rate_failed_fraction"] = double(rate.channels_failed) / rate.channels_tested;
+  return check_rate_image(rate, c.points);
 }
 
 // Costs, from part 2 on (part 1 tests every primitive by design): per
@@ -255,7 +282,10 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   r.command = join_command(plan, seed);
   const Renders rs = render_candidate(run, plan, seed, case_dir, &r);
   record_figures(rs, plan.share, ref, &r);
-  if (!rs.ok()) return fail(rs.outs.back().failure);
+  if (!rs.ok()) {
+    r.signature[failure_kind(rs.outs.back())] = 1;
+    return fail(rs.outs.back().failure);
+  }
   const ImageBuffer& first = rs.radiance.images[0];
   if (first.width != ref.mean.width || first.height != ref.mean.height)
     return fail("the reference is " + std::to_string(ref.mean.width) + " x " + std::to_string(ref.mean.height) +
@@ -265,14 +295,19 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   const ImageScore img = score_renders(rs.radiance, ref.mean, ref.variance, ref.runs, case_score_options(c, ref, rules));
   r.relmse = img.relmse;
   r.noise_ratio = img.noise_ratio;
-  save_pictures(case_dir, mean_of(rs.radiance.images), ref, img);
+  const ImageBuffer candidate = mean_of(rs.radiance.images);
+  r.signature = image_signature(candidate, ref.mean, img);
+  save_pictures(case_dir, candidate, ref, img);
   checks.push_back(check_image(img, c.points));
   // Noise is its own check, where the image is right: a wrong image's
   // problem is the image.
   if (img.passed) checks.push_back(check_noise(img, rules.noise_bound, rules.noise_credit, case_method(c), c.points));
 
-  if (c.kind == CaseKind::Rate) checks.push_back(rate_check(c, ref, rs, rules));
-  if (c.part >= 2) checks.push_back(cost_check(c, rs, rules, &r));
+  if (c.kind == CaseKind::Rate) checks.push_back(rate_check(c, ref, rs, rules, &r.signature));
+  if (c.part >= 2) {
+    checks.push_back(cost_check(c, rs, rules, &r));
+    add_cost_signature(r, &r.signature);
+  }
   if (c.kind == CaseKind::Speedup) checks.push_back(speedup_check(run, c, seed, case_dir, rules.costs, &r));
 
   for (const Check& k : checks) r.metric += k.metric;

@@ -22,6 +22,7 @@ struct Options {
   std::string work = "build/grader_work";  // make-references, calibrate
   int retime = 0;
   int seeds = 50;  // calibrate
+  std::vector<std::string> builds;  // calibrate: NAME=PATH
   uint64_t first_seed = 2000;
   std::string table = std::string(PT_SOURCE_DIR) + "/grader/tables/calibration.md";
   std::string compare_case, compare_out = ".";
@@ -52,10 +53,13 @@ CLI::App* add_make_references(CLI::App& app, Common& common, Options& o) {
 }
 
 CLI::App* add_calibrate(CLI::App& app, Common& common, Options& o) {
-  CLI::App* calibrate = app.add_subcommand("calibrate", "Grade the reference build at many seeds: false-failure rates");
+  CLI::App* calibrate = app.add_subcommand("calibrate", "Grade correct builds at many seeds: false-failure rates");
   common.add_to(calibrate, true);
   calibrate->add_option("--seeds", o.seeds, "Seeds per case")->check(CLI::Range(1, 100000))->capture_default_str();
   calibrate->add_option("--first-seed", o.first_seed, "The first seed")->capture_default_str();
+  calibrate->add_option("--build", o.builds,
+                        "NAME=PATH: another correct build to calibrate beside --pathtracer (a legal variant's "
+                        "pathtracer); repeatable");
   calibrate->add_option("--table", o.table, "Where the table goes")->capture_default_str();
   calibrate->add_option("--work", o.work, "Scratch folder")->capture_default_str();
   return calibrate;
@@ -107,7 +111,16 @@ int main(int argc, char** argv) {
   try {
     if (*run) return command_run(common, o.out, o.seed, o.quiet);
     if (*make) return command_make_references(common, o.runs, o.force, o.retime, o.work);
-    if (*calibrate) return command_calibrate(common, o.seeds, o.first_seed, o.table, o.work + "/calibrate");
+    if (*calibrate) {
+      std::vector<Build> builds;
+      for (const std::string& b : o.builds) {
+        const size_t eq = b.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == b.size())
+          throw std::runtime_error("--build " + b + ": expected NAME=PATH");
+        builds.push_back({b.substr(0, eq), b.substr(eq + 1)});
+      }
+      return command_calibrate(common, builds, o.seeds, o.first_seed, o.table, o.work + "/calibrate");
+    }
     if (*merge) return command_merge(common, o.out, o.shard_dirs);
     if (*compare) return command_compare(common, o.list, o.compare_case, o.compare_files, o.compare_out);
   } catch (const std::exception& e) {

@@ -1,6 +1,7 @@
 #include "grader/src/grade.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <map>
 
 #include "grader/src/pictures.h"
@@ -69,7 +70,7 @@ double rate_step(const Case& c) {
 // entry: failure_nan, failure_negative, failure_todo, failure_crash,
 // failure_timeout, failure_exit or failure_output.
 std::string failure_kind(const RenderOutput& out) {
-  if (out.stopped_at_todo || !out.todo.empty()) return "failure_todo";
+  if (out.stopped_at_todo) return "failure_todo";
   if (out.child.timed_out) return "failure_timeout";
   if (out.child.signal != 0) return "failure_crash";
   if (!out.child.started || out.child.exit_code != 0) return "failure_exit";
@@ -283,7 +284,10 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   const Renders rs = render_candidate(run, plan, seed, case_dir, &r);
   record_figures(rs, plan.share, ref, &r);
   if (!rs.ok()) {
-    r.signature[failure_kind(rs.outs.back())] = 1;
+    const std::string kind = failure_kind(rs.outs.back());
+    r.signature[kind] = 1;
+    // "1234 pixels are NaN or infinite ...": how many.
+    if (kind == "failure_nan") r.signature["nan_pixels"] = std::atof(rs.outs.back().failure.c_str());
     return fail(rs.outs.back().failure);
   }
   const ImageBuffer& first = rs.radiance.images[0];

@@ -44,6 +44,7 @@ std::string image_problem(const ImageScore& img) {
 
 Check check_image(const ImageScore& image, double points) {
   Check k;
+  k.name = "image";
   k.metric = image.summary();
   k.credit = points;
   if (!image.passed) {
@@ -55,6 +56,7 @@ Check check_image(const ImageScore& image, double points) {
 
 Check check_rate_image(const ImageScore& rate, double points) {
   Check k;
+  k.name = "rate";
   k.metric = "; rate: " + rate.summary();
   k.credit = points;
   if (!rate.passed) {
@@ -72,6 +74,7 @@ Check check_rate_image(const ImageScore& rate, double points) {
 Check check_costs(const Json* stats, int part, const CostBaseline& baseline, const CostBounds& bounds, double points,
                   QueryCosts* measured) {
   Check k;
+  k.name = "cost";
   if (!stats || stats->num("closest_queries", 0) <= 0) {
     k.problems.push_back("no ray counts (--stats-json stats.json)");
     return k;
@@ -124,6 +127,7 @@ Check check_costs(const Json* stats, int part, const CostBaseline& baseline, con
 Check check_noise(const ImageScore& image, double bound, double credit_share, const std::string& method,
                   double points) {
   Check k;
+  k.name = "noise";
   k.credit = points;
   if (image.noise_ratio < 0 || image.noise_ratio <= bound) return k;
   k.problems.push_back(fmt("the image is right but too noisy: its variance is %.1fx ", image.noise_ratio) +
@@ -135,6 +139,7 @@ Check check_noise(const ImageScore& image, double bound, double credit_share, co
 Check check_speedup(const RenderOutput& part1, double render_seconds, double tests_per_ray, const CostBounds& bounds,
                     double points, double* part1_seconds, double* speedup) {
   Check k;
+  k.name = "speedup";
   *part1_seconds = part1.ok && part1.has_stats ? part1.stats.num("render_seconds", -1) : -1;
   if (!part1.ok) {
     k.problems.push_back("the --part 1 (no BVH) render failed: " + part1.failure);

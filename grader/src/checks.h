@@ -35,6 +35,7 @@ struct CostBounds {
 
 // What one check found.
 struct Check {
+  std::string name;                   // "image", "noise", "rate", "cost", "speedup": the signature's failed_<name>
   std::vector<std::string> problems;  // empty: passed
   double credit = 0;                  // the most the case may earn after it (all its points when passed)
   std::string metric;                 // added to the case's statistics line

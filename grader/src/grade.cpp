@@ -314,7 +314,10 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   }
   if (c.kind == CaseKind::Speedup) checks.push_back(speedup_check(run, c, seed, case_dir, rules.costs, &r));
 
-  for (const Check& k : checks) r.metric += k.metric;
+  for (const Check& k : checks) {
+    r.metric += k.metric;
+    if (!k.problems.empty()) r.signature["failed_" + k.name] = 1;
+  }
   decide(checks, &r);
   return r;
 }

@@ -29,6 +29,8 @@ struct Options {
   std::vector<std::string> compare_files;  // compare
   bool list = false;
   std::vector<std::string> shard_dirs;  // merge
+  bool leave_one_out = false;  // hints
+  std::string hints_table = std::string(PT_SOURCE_DIR) + "/grader/tables/hints.md";
 };
 
 CLI::App* add_run(CLI::App& app, Common& common, Options& o) {
@@ -80,6 +82,16 @@ CLI::App* add_compare(CLI::App& app, Common& common, Options& o) {
   return compare;
 }
 
+CLI::App* add_hints(CLI::App& app, Common& common, Options& o) {
+  CLI::App* hints = app.add_subcommand(
+      "hints", "Leave-one-out over the known bugs: does each bug's signature name its function and part?");
+  hints->add_option("--catalogue", common.catalogue, "The known bugs' signatures")->capture_default_str();
+  hints->add_option("--cases", common.cases, "The case list (the cases' groups)")->capture_default_str();
+  hints->add_flag("--leave-one-out", o.leave_one_out, "Match each bug against the others (the only mode)");
+  hints->add_option("--table", o.hints_table, "Where the table goes")->capture_default_str();
+  return hints;
+}
+
 CLI::App* add_merge(CLI::App& app, Common& common, Options& o) {
   CLI::App* merge = app.add_subcommand("merge", "Join the outputs of several shards into one set of reports");
   merge->add_option("-o,--out", o.out, "Output folder")->capture_default_str();
@@ -100,6 +112,7 @@ int main(int argc, char** argv) {
   CLI::App* calibrate = add_calibrate(app, common, o);
   CLI::App* compare = add_compare(app, common, o);
   CLI::App* merge = add_merge(app, common, o);
+  CLI::App* hints = add_hints(app, common, o);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -122,6 +135,7 @@ int main(int argc, char** argv) {
       return command_calibrate(common, builds, o.seeds, o.first_seed, o.table, o.work + "/calibrate");
     }
     if (*merge) return command_merge(common, o.out, o.shard_dirs);
+    if (*hints) return command_hints(common, o.hints_table);
     if (*compare) return command_compare(common, o.list, o.compare_case, o.compare_files, o.compare_out);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grader: %s\n", e.what());

@@ -4,6 +4,7 @@
 #include "viewer/server.h"
 
 #include <signal.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -373,6 +374,14 @@ int run_server(ServerConfig cfg) {
   // a request, and idle connections let go soon.
   svr.new_task_queue = [] { return new httplib::ThreadPool(32); };
   svr.set_keep_alive_timeout(2);
+  // httplib's default sets SO_REUSEPORT, with which a second viewer on the
+  // same port binds too and the kernel shares the connections between
+  // them. SO_REUSEADDR alone lets a restarted viewer take its port back
+  // from connections still closing, but not from a listening server.
+  svr.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   add_token_check(svr, c.token);
   add_page_routes(svr, app);
   add_scene_routes(svr, app);

@@ -3,7 +3,7 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import {args, check, startViewer, stopViewer, SCENE} from './harness.mjs';
+import {args, check, rawRequest, startViewer, stopViewer, tryStartViewer, SCENE} from './harness.mjs';
 
 export const cases = {};
 
@@ -49,5 +49,27 @@ cases.token_and_paths = async () => {
     await stopViewer(v);
     fs.rmSync(dir, {recursive: true, force: true});
     fs.rmSync(outside, {recursive: true, force: true});
+  }
+};
+
+// A port another viewer listens on is refused: the second viewer says so
+// and exits, and the first one keeps answering every request.
+cases.port_in_use = async () => {
+  const first = await startViewer(args.viewer, ['-r', '32', '24', SCENE()]);
+  try {
+    const second = await tryStartViewer(args.viewer, ['--port', String(first.port), '-r', '32', '24', SCENE()]);
+    if (second.v) await stopViewer(second.v);
+    check(!second.v && second.code === 1, `a second viewer on port ${first.port} exits with status 1`,
+          second.v ? `it started: ${second.v.url}` : `exit status ${second.code}`);
+    check(!second.v && second.stderr.includes(`viewer: error: cannot listen on 127.0.0.1:${first.port} (in use?)`),
+          'it says the port is in use', second.v ? '' : second.stderr);
+    let answered = 0;
+    for (let i = 0; i < 8; ++i) {
+      const r = await rawRequest(first, {path: `/api/state?token=${first.token}`});
+      if (r.status === 200) ++answered;
+    }
+    check(answered === 8, 'the first viewer answers every request on its port', `${answered} of 8`);
+  } finally {
+    await stopViewer(first);
   }
 };

@@ -6,6 +6,7 @@
 import {spawn, spawnSync} from 'node:child_process';
 import {createRequire} from 'node:module';
 import fs from 'node:fs';
+import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
 
@@ -46,24 +47,36 @@ export function loadPlaywright() {
 const children = [];
 process.on('exit', () => { for (const c of children) if (c.exitCode === null) c.kill('SIGKILL'); });
 
-// Starts a viewer; resolves with {url, base, token, proc} once it printed its URL.
-export function startViewer(bin, flags, env) {
+// Starts a viewer; resolves with how its start ended: {v} once it printed
+// its URL (v as startViewer gives it), or {code, stderr} when it exited
+// before that.
+export function tryStartViewer(bin, flags, env) {
   return new Promise((resolve, reject) => {
     const proc = spawn(bin, flags, {env: Object.assign({}, process.env, env || {}), stdio: ['ignore', 'pipe', 'pipe']});
     children.push(proc);
-    let out = '', err = '';
+    let out = '', err = '', started = false;
     proc.stderr.on('data', (d) => { err += d; });
     proc.stdout.on('data', (d) => {
       out += d;
       const line = out.split('\n')[0];
-      if (out.includes('\n')) {
-        const m = /^(http:\/\/127\.0\.0\.1:\d+)\/\?token=([0-9a-f]{32})$/.exec(line);
-        if (m) resolve({url: line, base: m[1], token: m[2], proc, stderr: () => err});
+      if (out.includes('\n') && !started) {
+        started = true;
+        const m = /^(http:\/\/127\.0\.0\.1:(\d+))\/\?token=([0-9a-f]{32})$/.exec(line);
+        if (m) resolve({v: {url: line, base: m[1], port: Number(m[2]), token: m[3], proc, stderr: () => err}});
         else reject(new Error(`unexpected first line: ${line}`));
       }
     });
-    proc.on('exit', (code) => reject(new Error(`viewer exited (${code}) before printing its URL: ${err}`)));
+    // 'close': after the exit and the end of both streams.
+    proc.on('close', (code) => { if (!started) resolve({code, stderr: err}); });
   });
+}
+
+// Starts a viewer; resolves with {url, base, port, token, proc, stderr}
+// once it printed its URL.
+export async function startViewer(bin, flags, env) {
+  const r = await tryStartViewer(bin, flags, env);
+  if (!r.v) throw new Error(`viewer exited (${r.code}) before printing its URL: ${r.stderr}`);
+  return r.v;
 }
 
 export function stopViewer(v) {
@@ -166,6 +179,24 @@ export async function fetchBytes(v, p) {
   const res = await fetch(`${v.base}${p}`, {headers: {'X-Token': v.token}});
   if (!res.ok) throw new Error(`${p}: HTTP ${res.status}`);
   return Buffer.from(await res.arrayBuffer());
+}
+
+// One HTTP request to a viewer with exactly the headers given (Host,
+// Origin and Content-Type included, which a browser's fetch would set
+// itself), on its own connection. Resolves with {status, headers, body}
+// (the body as text).
+export function rawRequest(v, {method = 'GET', path: p = '/', headers = {}, body}) {
+  return new Promise((resolve, reject) => {
+    const req = http.request({host: '127.0.0.1', port: v.port, method, path: p, agent: false,
+                              headers: Object.assign({Host: `127.0.0.1:${v.port}`}, headers)}, (res) => {
+      const chunks = [];
+      res.on('data', (c) => chunks.push(c));
+      res.on('end', () => resolve({status: res.statusCode, headers: res.headers, body: Buffer.concat(chunks).toString()}));
+    });
+    req.on('error', reject);
+    if (body !== undefined) req.write(body);
+    req.end();
+  });
 }
 
 export function sameArrays(a, b) {

@@ -47,7 +47,7 @@ void add_debug_routes(httplib::Server& svr, App& app) {
     const int status = job->state == "cancelled" && ended ? 409 : 500;
     const std::string state = job->state;
     lock.unlock();
-    if (!ended) Workers::cancel(job);
+    if (!ended) app.workers.stop(job);
     send_json(res, "{\"error\":" + json_quote(message) + ",\"state\":" + json_quote(state) + ",\"todo\":" + todo + "}",
               status);
   }));

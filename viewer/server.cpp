@@ -277,8 +277,18 @@ void add_render_routes(httplib::Server& svr, App& app) {
   svr.Post("/api/normals", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     start_job(app, "normals", req, res);
   }));
-  svr.Post("/api/stop", guarded([&app](const httplib::Request&, httplib::Response& res) {
-    app.workers.stop_current();
+  // Stops the render (or the job of {"job": id}) and answers once its
+  // worker is gone.
+  svr.Post("/api/stop", guarded([&app](const httplib::Request& req, httplib::Response& res) {
+    const Json body = req.body.empty() ? json_object() : body_json(req);
+    if (body.type == Json::Type::Object && body.get("job")) {
+      const double id = body.num("job", -1);
+      auto job = id >= 0 ? app.workers.find(uint64_t(id)) : nullptr;
+      if (!job) throw BadRequest("no such job (it may have been replaced by newer ones)", 404);
+      app.workers.stop(job);
+    } else {
+      app.workers.stop_kind("render");
+    }
     send_json(res, "{}");
   }));
   // Waits (up to 10 s) until the job has more than `after` frames or has ended.
@@ -287,8 +297,10 @@ void add_render_routes(httplib::Server& svr, App& app) {
     const long long after = req.has_param("after") ? (long long)param_u64(req, "after") : -1;
     std::unique_lock<std::mutex> lock(job->mu);
     job->last_seen = now_seconds();
+    ++job->waiting_polls;  // a page waiting on it is watching it
     job->cv.wait_for(lock, std::chrono::seconds(10),
                      [&] { return job->state != "running" || job->frames > after || g_stop; });
+    --job->waiting_polls;
     job->last_seen = now_seconds();
     send_json(res, job_json(*job));
   }));

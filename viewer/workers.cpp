@@ -224,8 +224,15 @@ void record_end(Job& job, int status, bool done) {
   job.cv.notify_all();
 }
 
-// Reads the worker's two streams until it ends, then records how it ended.
-void watch(std::shared_ptr<Job> job, int out_fd, int err_fd) {
+}  // namespace
+
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Reads the worker's two streams until it ends, then records how it
+// ended and lets the stops waiting for it go on.
+void Workers::watch(std::shared_ptr<Job> job, int out_fd, int err_fd) {
   std::thread err_reader([job, err_fd] { read_worker_stderr(job, err_fd); });
   const bool done = read_worker_stdout(job, out_fd);
   err_reader.join();
@@ -239,30 +246,33 @@ void watch(std::shared_ptr<Job> job, int out_fd, int err_fd) {
   }
   ::kill(-pid, SIGKILL);  // anything it left behind in its group
   record_end(*job, status, done);
+  std::lock_guard<std::mutex> lock(mu_);
+  alive_.erase(job);
+  gone_cv_.notify_all();
 }
 
-}  // namespace
-
-double now_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-void Workers::enter(const std::shared_ptr<Job>& job) {
+std::shared_ptr<Job> Workers::enter(const std::shared_ptr<Job>& job) {
   std::lock_guard<std::mutex> lock(mu_);
   job->id = ++next_id_;
-  // One job of each kind at a time: a new one stops the one before.
-  auto& previous = latest_[job->kind];
-  if (previous) cancel(previous);
-  previous = job;
-  if (job->kind == "render") current_ = job;
+  // One job of each kind at a time: a new one stops the one before, whose
+  // image is not kept any more (only the latest job of a kind has one).
+  std::shared_ptr<Job> previous = latest_[job->kind];
+  latest_[job->kind] = job;
+  if (previous) {
+    cancel(*previous);
+    std::lock_guard<std::mutex> jl(previous->mu);
+    previous->frame.reset();
+    previous->bvh.reset();
+  }
   jobs_[job->id] = job;
-  // Keep the last few jobs' results for the page (and every kind's
+  // Keep the last few jobs' states for the page (and every kind's
   // latest); forget the rest.
   for (auto it = jobs_.begin(); jobs_.size() > 8 && it != jobs_.end();) {
     bool latest = false;
     for (const auto& [k, j] : latest_) latest = latest || j == it->second;
     it = latest ? std::next(it) : jobs_.erase(it);
   }
+  return previous;
 }
 
 std::shared_ptr<Job> Workers::start(const std::string& kind, const RenderOptions& opts,
@@ -271,7 +281,10 @@ std::shared_ptr<Job> Workers::start(const std::string& kind, const RenderOptions
   job->kind = kind;
   job->opts = opts;
   job->started = job->last_seen = now_seconds();
-  enter(job);
+  // Starts one at a time: concurrent requests each replace the one before,
+  // and the one before is gone before the next worker exists.
+  std::lock_guard<std::mutex> starting(start_mu_);
+  if (std::shared_ptr<Job> previous = enter(job)) stop_and_wait({previous});
   std::vector<std::string> args = {exe_, "--worker", kind == "normals" ? "render" : kind};
   args.insert(args.end(), flags.begin(), flags.end());
   pid_t pid = -1;
@@ -283,10 +296,16 @@ std::shared_ptr<Job> Workers::start(const std::string& kind, const RenderOptions
     return job;
   }
   {
+    std::lock_guard<std::mutex> lock(mu_);
+    alive_.insert(job);
+  }
+  {
     std::lock_guard<std::mutex> lock(job->mu);
     job->pid = pid;
+    // Stopped while it was being started (the server stopping, say).
+    if (job->cancel_requested) ::kill(-pid, SIGKILL);
   }
-  std::thread([job, out_fd, err_fd] { watch(job, out_fd, err_fd); }).detach();
+  std::thread([this, job, out_fd, err_fd] { watch(job, out_fd, err_fd); }).detach();
   return job;
 }
 
@@ -296,37 +315,62 @@ std::shared_ptr<Job> Workers::find(uint64_t id) {
   return it == jobs_.end() ? nullptr : it->second;
 }
 
-std::shared_ptr<Job> Workers::current() {
-  std::lock_guard<std::mutex> lock(mu_);
-  return current_;
+void Workers::stop_and_wait(const std::vector<std::shared_ptr<Job>>& jobs) {
+  for (const auto& job : jobs) cancel(*job);
+  std::unique_lock<std::mutex> lock(mu_);
+  // SIGKILL ends a process at once unless it is stuck in the kernel (a
+  // dead disk, say); the server does not hang on one: a minute at most.
+  gone_cv_.wait_for(lock, std::chrono::seconds(60), [&] {
+    for (const auto& job : jobs)
+      if (alive_.count(job)) return false;
+    return true;
+  });
 }
 
-void Workers::stop_current() {
-  std::lock_guard<std::mutex> lock(mu_);
-  if (current_) cancel(current_);
+void Workers::stop_kind(const std::string& kind) {
+  std::vector<std::shared_ptr<Job>> jobs;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const auto& job : alive_)
+      if (job->kind == kind) jobs.push_back(job);
+  }
+  stop_and_wait(jobs);
 }
+
+void Workers::stop(const std::shared_ptr<Job>& job) { stop_and_wait({job}); }
 
 void Workers::stop_unwatched(double seconds) {
-  std::lock_guard<std::mutex> lock(mu_);
-  if (!current_) return;
-  bool stale;
+  std::vector<std::shared_ptr<Job>> stale;
   {
-    std::lock_guard<std::mutex> jl(current_->mu);
-    stale = current_->state == "running" && now_seconds() - current_->last_seen > seconds;
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const auto& job : alive_) {
+      std::lock_guard<std::mutex> jl(job->mu);
+      if (job->state == "running" && job->waiting_polls == 0 && now_seconds() - job->last_seen > seconds)
+        stale.push_back(job);
+    }
   }
-  if (stale) cancel(current_);
+  stop_and_wait(stale);
 }
 
 void Workers::stop_all() {
-  std::lock_guard<std::mutex> lock(mu_);
-  for (auto& [id, job] : jobs_) cancel(job);
+  std::vector<std::shared_ptr<Job>> jobs;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    jobs.assign(alive_.begin(), alive_.end());
+  }
+  stop_and_wait(jobs);
 }
 
-void Workers::cancel(const std::shared_ptr<Job>& job) {
-  std::lock_guard<std::mutex> lock(job->mu);
-  if (job->state != "running") return;
-  job->cancel_requested = true;
-  if (job->pid > 0) ::kill(-job->pid, SIGKILL);
+size_t Workers::alive() {
+  std::lock_guard<std::mutex> lock(mu_);
+  return alive_.size();
+}
+
+void cancel(Job& job) {
+  std::lock_guard<std::mutex> lock(job.mu);
+  if (job.state != "running") return;
+  job.cancel_requested = true;
+  if (job.pid > 0) ::kill(-job.pid, SIGKILL);
 }
 
 std::string job_json(Job& job) {

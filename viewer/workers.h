@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <map>
+#include <set>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -64,6 +65,7 @@ struct Job {
   std::string result;
   std::shared_ptr<const std::vector<uint8_t>> bvh;
   bool cancel_requested = false;
+  int waiting_polls = 0;  // status requests waiting on it now
   std::string crash_signal, crash_function;
   double started = 0;
   double last_seen = 0;  // the last status request for it
@@ -72,36 +74,52 @@ struct Job {
 // Seconds on a steady clock.
 double now_seconds();
 
-// The jobs: at most one running of each kind, the last few kept for the page.
+// The jobs: at most one worker of each kind alive at any moment, the last
+// few jobs kept for the page.
 class Workers {
  public:
   explicit Workers(std::string exe) : exe_(std::move(exe)) {}
 
-  // Starts a job of `kind` ("render", "normals" or "bvh") for `opts` with
-  // `flags`; it replaces (and stops) the running job of the same kind.
+  // Starts a job of `kind` ("render", "normals", "bvh" or "debug") for
+  // `opts` with `flags`. The running job of the same kind is stopped first,
+  // and its worker is gone before the new one starts, whatever requests
+  // arrive at the same time.
   std::shared_ptr<Job> start(const std::string& kind, const RenderOptions& opts, const std::vector<std::string>& flags);
 
   std::shared_ptr<Job> find(uint64_t id);
-  std::shared_ptr<Job> current();
-  void stop_current();
-  // Stops the current render when no page has asked about it for
-  // `seconds`: a closed tab leaves no render running.
+  // Stops every running job of `kind`, or `job`; returns once their
+  // workers are gone.
+  void stop_kind(const std::string& kind);
+  void stop(const std::shared_ptr<Job>& job);
+  // Stops every running job that no page has asked about for `seconds`
+  // (no status request waiting, none in that time): a closed tab leaves
+  // no worker running.
   void stop_unwatched(double seconds);
   void stop_all();
-
-  static void cancel(const std::shared_ptr<Job>& job);
+  // How many workers are alive.
+  size_t alive();
 
  private:
-  // Files `job` under its id as its kind's latest, stopping the one before.
-  void enter(const std::shared_ptr<Job>& job);
+  // Files `job` under its id as its kind's latest; returns the job it
+  // replaces (cancelled), if any.
+  std::shared_ptr<Job> enter(const std::shared_ptr<Job>& job);
+  // Kills `jobs`' workers and waits until each is gone.
+  void stop_and_wait(const std::vector<std::shared_ptr<Job>>& jobs);
+  void watch(std::shared_ptr<Job> job, int out_fd, int err_fd);
 
   std::string exe_;
+  std::mutex start_mu_;  // one start at a time, from cancelling the previous job to the new pid
   std::mutex mu_;
+  std::condition_variable gone_cv_;
   uint64_t next_id_ = 0;
   std::map<uint64_t, std::shared_ptr<Job>> jobs_;
   std::map<std::string, std::shared_ptr<Job>> latest_;  // by kind
-  std::shared_ptr<Job> current_;                        // the render
+  std::set<std::shared_ptr<Job>> alive_;                // workers started and not yet reaped
 };
+
+// Sends the job's worker SIGKILL (its whole process group); a worker
+// whose pid is not known yet is killed as soon as it is.
+void cancel(Job& job);
 
 // The job as the page's status object. Called with job.mu held.
 std::string job_json(Job& job);

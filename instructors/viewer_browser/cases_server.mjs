@@ -73,3 +73,51 @@ cases.port_in_use = async () => {
     await stopViewer(first);
   }
 };
+
+// The processes whose parent is `pid` and that are not zombies, with their
+// command lines.
+function liveChildren(pid) {
+  const out = [];
+  for (const d of fs.readdirSync('/proc')) {
+    if (!/^\d+$/.test(d)) continue;
+    try {
+      const stat = fs.readFileSync(`/proc/${d}/stat`, 'utf8');
+      // "pid (comm) state ppid ...": the name may hold spaces and brackets.
+      const [state, ppid] = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+      if (Number(ppid) !== pid || state === 'Z') continue;
+      out.push({pid: Number(d), cmd: fs.readFileSync(`/proc/${d}/cmdline`, 'utf8').split('\0').join(' ')});
+    } catch (e) { /* gone meanwhile */ }
+  }
+  return out;
+}
+const renderWorkers = (v) => liveChildren(v.proc.pid).filter((c) => / --worker render /.test(c.cmd));
+
+// Ten render requests at once (long renders, each its own seed): when all
+// are answered, one render worker is left (the last request's); Stop
+// answers once it is gone too, and none is left.
+cases.concurrent_renders = async () => {
+  const v = await startViewer(args.viewer, ['-r', '64', '48', '-s', '4096', '-m', '8', '-t', '4', SCENE()]);
+  try {
+    const post = (p, body) => rawRequest(v, {method: 'POST', path: p, body: JSON.stringify(body),
+                                               headers: {'X-Token': v.token, 'Content-Type': 'application/json'}});
+    const answers = await Promise.all([...Array(10).keys()].map((i) => post('/api/render', {seed: 100 + i})));
+    const jobs = answers.map((a) => (a.status === 200 ? JSON.parse(a.body).job : null));
+    check(jobs.every((j) => j !== null), 'the ten render requests are answered', answers.map((a) => a.status).join());
+    const left = renderWorkers(v);
+    check(left.length <= 1, 'one render worker at most is alive once all ten are answered',
+          `${left.length}: ${left.map((c) => c.cmd.replace(/.* --seed (\d+) .*/, 'seed $1')).join(', ')}`);
+    const last = Math.max(...jobs);
+    const st = JSON.parse((await rawRequest(v, {path: `/api/status?job=${last}&token=${v.token}`})).body);
+    check(left.length === 1 && left[0].cmd.includes(` --seed ${st.settings.seed} `) && st.state === 'running',
+          'it is the newest job\'s', JSON.stringify({seed: st.settings.seed, state: st.state}));
+    const stop = await post('/api/stop', {});
+    check(stop.status === 200, '/api/stop answers', String(stop.status));
+    const after = renderWorkers(v);
+    check(after.length === 0, 'after Stop no render worker is left',
+          after.map((c) => c.cmd.replace(/.* --seed (\d+) .*/, 'seed $1')).join(', '));
+    const ended = JSON.parse((await rawRequest(v, {path: `/api/status?job=${last}&token=${v.token}`})).body);
+    check(ended.state === 'cancelled', 'the newest job is cancelled', ended.state);
+  } finally {
+    await stopViewer(v);
+  }
+};

@@ -26,6 +26,7 @@ struct App {
   std::string temp_dir;
   std::atomic<uint64_t> camera_files{0};
   std::vector<ViewerCase> cases;
+  int port = 0;  // the port it listens on, once bound
 
   explicit App(ServerConfig c) : cfg(std::move(c)), workers(cfg.worker_exe) {}
 };

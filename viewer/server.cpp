@@ -25,6 +25,7 @@
 
 #include <httplib.h>
 
+#include "viewer/access.h"
 #include "viewer/camera_file.h"
 #include "viewer/http_helpers.h"
 #include "common/image_io.h"
@@ -125,16 +126,19 @@ void send_bytes(httplib::Response& res, const std::vector<uint8_t>& bytes, const
   res.set_content(std::string(bytes.begin(), bytes.end()), type);
 }
 
-// Refuses requests without the token and answers errors without a body
-// with a JSON one.
-void add_token_check(httplib::Server& svr, const std::string& token) {
-  svr.set_pre_routing_handler([&token](const httplib::Request& req, httplib::Response& res) {
-    if (!token_ok(req, token)) {
-      res.status = 403;
-      res.set_content("403: this viewer needs the token of the URL it printed when it started\n", "text/plain");
-      return httplib::Server::HandlerResponse::Handled;
-    }
-    return httplib::Server::HandlerResponse::Unhandled;
+// Refuses what access.h refuses (a JSON error under /api/, a line of text
+// elsewhere) and answers errors without a body with a JSON one. `port` is
+// the port the server listens on, known once it is bound.
+void add_access_check(httplib::Server& svr, const std::string& token, const int& port) {
+  svr.set_pre_routing_handler([&token, &port](const httplib::Request& req, httplib::Response& res) {
+    const Refusal r = check_request(req, token, port);
+    if (r.status == 0) return httplib::Server::HandlerResponse::Unhandled;
+    if (req.path.rfind("/api/", 0) == 0)
+      send_error(res, r.reason, r.status);
+    else
+      res.set_content(r.reason + "\n", "text/plain; charset=utf-8");
+    res.status = r.status;
+    return httplib::Server::HandlerResponse::Handled;
   });
   svr.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (res.body.empty()) res.set_content("{\"error\":\"HTTP " + std::to_string(res.status) + "\"}", "application/json");
@@ -222,9 +226,9 @@ std::pair<std::shared_ptr<Job>, std::shared_ptr<const Frame>> job_frame(App& app
 // and /api/state.
 void add_page_routes(httplib::Server& svr, App& app) {
   const ServerConfig& c = app.cfg;
-  svr.Get("/", [&c](const httplib::Request&, httplib::Response& res) {
+  svr.Get("/", [&c, &app](const httplib::Request&, httplib::Response& res) {
     serve_file(res, c.web_dir + "/index.html", "text/html; charset=utf-8");
-    res.set_header("Set-Cookie", "pt_viewer_token=" + c.token + "; Path=/; HttpOnly; SameSite=Strict");
+    res.set_header("Set-Cookie", cookie_name(app.port) + "=" + c.token + "; Path=/; HttpOnly; SameSite=Strict");
   });
   svr.Get(R"(/web/([a-z0-9_]+)\.(js|css))", [&c](const httplib::Request& req, httplib::Response& res) {
     const std::string ext = req.matches[2];
@@ -394,7 +398,7 @@ int run_server(ServerConfig cfg) {
     int yes = 1;
     ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
-  add_token_check(svr, c.token);
+  add_access_check(svr, c.token, app.port);
   add_page_routes(svr, app);
   add_scene_routes(svr, app);
   add_render_routes(svr, app);
@@ -403,6 +407,7 @@ int run_server(ServerConfig cfg) {
 
   const int port = c.port > 0 ? (svr.bind_to_port("127.0.0.1", c.port) ? c.port : -1)
                               : svr.bind_to_any_port("127.0.0.1");
+  app.port = port;
   if (port <= 0) {
     std::fprintf(stderr, "viewer: error: cannot listen on 127.0.0.1:%d (in use?)\n", c.port);
     return 1;

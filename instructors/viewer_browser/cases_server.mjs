@@ -25,7 +25,8 @@ cases.token_and_paths = async () => {
     check(wrong.status === 403, 'a wrong token is refused (403)', String(wrong.status));
     const ok = await fetch(`${v.base}/api/state?token=${v.token}`);
     check(ok.status === 200, 'the token of the printed URL is accepted', String(ok.status));
-    const post = (body) => fetch(`${v.base}/api/render`, {method: 'POST', headers: {'X-Token': v.token}, body});
+    const post = (body) => fetch(`${v.base}/api/render`, {method: 'POST', body,
+                                                            headers: {'X-Token': v.token, 'Content-Type': 'application/json'}});
     for (const [what, scene] of [['a path with ..', `${dir}/../${path.basename(outside)}/secret.dae`],
                                  ['an absolute path elsewhere', path.join(outside, 'secret.dae')],
                                  ['/etc/passwd', '/etc/passwd'],
@@ -117,6 +118,51 @@ cases.concurrent_renders = async () => {
           after.map((c) => c.cmd.replace(/.* --seed (\d+) .*/, 'seed $1')).join(', '));
     const ended = JSON.parse((await rawRequest(v, {path: `/api/status?job=${last}&token=${v.token}`})).body);
     check(ended.state === 'cancelled', 'the newest job is cancelled', ended.state);
+  } finally {
+    await stopViewer(v);
+  }
+};
+
+// What a page of another site (another port of 127.0.0.1, or a name made
+// to point at it) can make a browser send is refused, even with the
+// page's cookie: a text/plain or form body, another Origin, Sec-Fetch-Site
+// same-site or cross-site, another Host. No job starts; the viewer's own
+// page's requests (JSON, its Origin, same-origin) go on.
+cases.cross_site = async () => {
+  const v = await startViewer(args.viewer, ['-r', '32', '24', '-s', '1', SCENE()]);
+  try {
+    const cookie = `pt_viewer_${v.port}=${v.token}`;
+    const body = JSON.stringify({seed: 3});
+    const attempts = [
+      ['a text/plain body (a "no-cors" fetch)', {'Content-Type': 'text/plain;charset=UTF-8', Cookie: cookie}, 415],
+      ['a form post', {'Content-Type': 'application/x-www-form-urlencoded', Cookie: cookie}, 415],
+      ['JSON with another port\'s Origin', {'Content-Type': 'application/json', Cookie: cookie,
+                                            Origin: `http://127.0.0.1:${v.port + 1}`}, 403],
+      ['JSON with Sec-Fetch-Site: same-site', {'Content-Type': 'application/json', Cookie: cookie,
+                                               'Sec-Fetch-Site': 'same-site'}, 403],
+      ['JSON with Sec-Fetch-Site: cross-site', {'Content-Type': 'application/json', 'X-Token': v.token,
+                                                'Sec-Fetch-Site': 'cross-site'}, 403],
+      ['a request for evil.example (DNS rebinding)', {'Content-Type': 'application/json', 'X-Token': v.token,
+                                                      Host: `evil.example:${v.port}`}, 403],
+      ['the old cookie name', {'Content-Type': 'application/json', Cookie: `pt_viewer_token=${v.token}`}, 403],
+    ];
+    for (const [what, headers, status] of attempts) {
+      const r = await rawRequest(v, {method: 'POST', path: '/api/render', headers, body});
+      let reason = '';
+      try { reason = JSON.parse(r.body).error; } catch (e) { reason = r.body; }
+      check(r.status === status && /^refused: /.test(reason), `${what}: refused with ${status} and the reason`,
+            `${r.status} ${r.body.slice(0, 200)}`);
+    }
+    const get = await rawRequest(v, {path: `/api/state?token=${v.token}`, headers: {Host: 'evil.example'}});
+    check(get.status === 403, 'a GET for evil.example is refused too', String(get.status));
+    const page = await rawRequest(v, {path: '/', headers: {Cookie: cookie, 'Sec-Fetch-Site': 'same-site'}});
+    check(page.status === 403, 'another port\'s page cannot open the viewer\'s page with the cookie alone', String(page.status));
+    // The viewer's own page: JSON, its Origin, same-origin, its cookie.
+    const own = await rawRequest(v, {method: 'POST', path: '/api/render', body,
+                                     headers: {'Content-Type': 'application/json', Cookie: cookie,
+                                               Origin: `http://127.0.0.1:${v.port}`, 'Sec-Fetch-Site': 'same-origin'}});
+    check(own.status === 200 && JSON.parse(own.body).job === 1,
+          'the page\'s own request starts a render, job 1: none of the refused ones started a job', `${own.status} ${own.body.slice(0, 80)}`);
   } finally {
     await stopViewer(v);
   }

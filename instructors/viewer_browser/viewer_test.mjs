@@ -15,9 +15,10 @@ import {cases as render} from './cases_render.mjs';
 import {cases as bvh} from './cases_bvh.mjs';
 import {cases as debug} from './cases_debug.mjs';
 import {cases as server} from './cases_server.mjs';
+import {cases as access} from './cases_access.mjs';
 import path from 'node:path';
 
-const cases = Object.assign({}, render, bvh, debug, server);
+const cases = Object.assign({}, render, bvh, debug, server, access);
 
 // Not a test: timings for the report.
 async function measure() {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "viewer/access.h"
 #include "viewer/camera_file.h"
 #include "common/collada.h"
 #include "viewer/debug_api.h"
@@ -191,4 +192,77 @@ TEST_CASE("Debug mode reads the page's input, refuses absurd values, and answers
       viewer::run_debug_tool("lights", R"({"light":0,"point":[0,0.01,0],"normal":[0,1,0],"samples":5,"seed":1})", o, load), "l");
   CHECK(lights.get("samples")->array.size() == 5);
   CHECK(lights.get("light_shape")->str("type") == "area");
+}
+
+TEST_CASE("requests another site's page can make a browser send are refused, the page's own are not", "[viewer]") {
+  const std::string token(32, 'a');
+  const int port = 8123;
+  // The viewer's own page: its Host, Origin and cookie, JSON.
+  const auto page = [&](const std::string& method, const std::string& path) {
+    httplib::Request r;
+    r.method = method;
+    r.path = path;
+    r.headers.emplace("Host", "127.0.0.1:8123");
+    r.headers.emplace("Cookie", "other=1; pt_viewer_8123=" + token);
+    r.headers.emplace("Sec-Fetch-Site", "same-origin");
+    if (method == "POST") {
+      r.headers.emplace("Origin", "http://127.0.0.1:8123");
+      r.headers.emplace("Content-Type", "application/json");
+    }
+    return r;
+  };
+  const auto status = [&](const httplib::Request& r) { return viewer::check_request(r, token, port).status; };
+  const auto with = [](httplib::Request r, const std::string& key, const std::string& value) {
+    r.headers.erase(key);
+    r.headers.emplace(key, value);
+    return r;
+  };
+  CHECK(status(page("GET", "/api/state")) == 0);
+  CHECK(status(page("POST", "/api/render")) == 0);
+  CHECK(status(with(page("POST", "/api/render"), "Content-Type", "application/json; charset=utf-8")) == 0);
+  CHECK(status(with(page("GET", "/api/state"), "Host", "localhost:8123")) == 0);
+  CHECK(viewer::cookie_name(port) == "pt_viewer_8123");
+
+  // Another port of the same host: same-site, another Origin.
+  CHECK(status(with(page("POST", "/api/render"), "Origin", "http://127.0.0.1:9000")) == 403);
+  CHECK(status(with(page("POST", "/api/render"), "Origin", "null")) == 403);
+  CHECK(status(with(page("POST", "/api/render"), "Sec-Fetch-Site", "same-site")) == 403);
+  CHECK(status(with(page("GET", "/api/image"), "Sec-Fetch-Site", "cross-site")) == 403);
+  // Bodies another page can send without asking: text and forms.
+  CHECK(status(with(page("POST", "/api/render"), "Content-Type", "text/plain;charset=UTF-8")) == 415);
+  CHECK(status(with(page("POST", "/api/render"), "Content-Type", "application/x-www-form-urlencoded")) == 415);
+  CHECK(status(with(page("POST", "/api/render"), "Content-Type", "multipart/form-data; boundary=x")) == 415);
+  httplib::Request no_type = page("POST", "/api/stop");
+  no_type.headers.erase("Content-Type");
+  CHECK(status(no_type) == 415);
+  // DNS rebinding: a name of another site pointed at 127.0.0.1.
+  CHECK(status(with(page("GET", "/api/state"), "Host", "evil.example:8123")) == 403);
+  CHECK(status(with(page("GET", "/api/state"), "Host", "127.0.0.1:9000")) == 403);
+  httplib::Request no_host = page("GET", "/api/state");
+  no_host.headers.erase("Host");
+  CHECK(status(no_host) == 403);
+  // The token: another viewer's cookie, the old shared name, or none.
+  CHECK(status(with(page("GET", "/api/state"), "Cookie", "pt_viewer_9000=" + token)) == 403);
+  CHECK(status(with(page("GET", "/api/state"), "Cookie", "pt_viewer_token=" + token)) == 403);
+  CHECK(status(with(page("GET", "/api/state"), "Cookie", "pt_viewer_8123=" + std::string(32, 'b'))) == 403);
+  const viewer::Refusal no_token = viewer::check_request(with(page("GET", "/"), "Cookie", ""), token, port);
+  CHECK(no_token.status == 403);
+  CHECK(no_token.reason.find("open the URL the viewer printed") != std::string::npos);
+  // A program with the token (curl): no Origin, no Sec-Fetch-Site.
+  httplib::Request curl;
+  curl.method = "POST";
+  curl.path = "/api/render";
+  curl.headers.emplace("Host", "127.0.0.1:8123");
+  curl.headers.emplace("X-Token", token);
+  curl.headers.emplace("Content-Type", "application/json");
+  CHECK(status(curl) == 0);
+  // The printed URL opened from anywhere (a terminal, another page): the
+  // page, with the token in the URL; the cookie alone does not do.
+  httplib::Request opened = with(with(page("GET", "/"), "Sec-Fetch-Site", "cross-site"), "Cookie", "");
+  opened.params.emplace("token", token);
+  CHECK(status(opened) == 0);
+  CHECK(status(with(page("GET", "/"), "Sec-Fetch-Site", "same-site")) == 403);
+  httplib::Request api_from_elsewhere = with(page("GET", "/api/state"), "Sec-Fetch-Site", "cross-site");
+  api_from_elsewhere.params.emplace("token", token);
+  CHECK(status(api_from_elsewhere) == 403);
 }

@@ -19,6 +19,12 @@
 
 namespace pt::viewer {
 
+// The server's threads, and how many of them status requests may hold
+// waiting for a job's next frame: the rest serve everything else (a
+// browser keeps a few connections open, each on a thread while it lasts).
+constexpr int kServerThreads = 32;
+constexpr int kMaxWaitingPolls = 16;
+
 struct App {
   ServerConfig cfg;
   Workers workers;
@@ -27,6 +33,7 @@ struct App {
   std::atomic<uint64_t> camera_files{0};
   std::vector<ViewerCase> cases;
   int port = 0;  // the port it listens on, once bound
+  std::atomic<int> waiting_polls{0};  // status requests waiting now
 
   explicit App(ServerConfig c) : cfg(std::move(c)), workers(cfg.worker_exe) {}
 };

@@ -295,10 +295,26 @@ void add_render_routes(httplib::Server& svr, App& app) {
     }
     send_json(res, "{}");
   }));
-  // Waits (up to 10 s) until the job has more than `after` frames or has ended.
+  // Waits (up to 10 s) until the job has more than `after` frames or has
+  // ended. A waiting request holds one of the server's threads: beyond
+  // kMaxWaitingPolls of them (many tabs, or a program flooding it) the
+  // status is answered at once with "busy", so that the other requests
+  // always find a thread.
   svr.Get("/api/status", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto job = find_job(app, req);
     const long long after = req.has_param("after") ? (long long)param_u64(req, "after") : -1;
+    if (app.waiting_polls.fetch_add(1) >= kMaxWaitingPolls) {
+      --app.waiting_polls;
+      std::lock_guard<std::mutex> lock(job->mu);
+      job->last_seen = now_seconds();
+      std::string s = job_json(*job);
+      s.insert(1, "\"busy\":true,");
+      return send_json(res, s);
+    }
+    struct Leave {
+      std::atomic<int>& n;
+      ~Leave() { --n; }
+    } leave{app.waiting_polls};
     std::unique_lock<std::mutex> lock(job->mu);
     job->last_seen = now_seconds();
     ++job->waiting_polls;  // a page waiting on it is watching it
@@ -387,8 +403,8 @@ int run_server(ServerConfig cfg) {
   svr.set_payload_max_length(1 << 16);
   // A browser keeps several connections open and the page long-polls on
   // one: enough threads that an idle kept-alive connection never starves
-  // a request, and idle connections let go soon.
-  svr.new_task_queue = [] { return new httplib::ThreadPool(32); };
+  // a request (routes.h), and idle connections let go soon.
+  svr.new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
   svr.set_keep_alive_timeout(2);
   // httplib's default sets SO_REUSEPORT, with which a second viewer on the
   // same port binds too and the kernel shares the connections between

@@ -30,6 +30,15 @@ namespace pt::viewer {
 // Outside the unnamed namespace, so that the backtrace can name it.
 __attribute__((noinline, noipa)) void planted_crash_in_render(volatile int* p) { *p = 1; }
 __attribute__((noinline, noipa)) void planted_crash_in_debug_tool(volatile int* p) { *p = 1; }
+// A loop that never ends (until the worker is killed).
+__attribute__((noinline, noipa)) void planted_infinite_loop_in_render(volatile int* spin) {
+  while (*spin) {
+  }
+}
+__attribute__((noinline, noipa)) void planted_infinite_loop_in_debug_tool(volatile int* spin) {
+  while (*spin) {
+  }
+}
 #endif
 
 namespace {
@@ -82,8 +91,9 @@ void install_fault_handlers() {
 // Test builds only: faults planted by the environment, to test how the
 // server reports them. PT_VIEWER_PLANT=crash dereferences a null pointer
 // in the middle of a render with --seed 13 and throws an exception there
-// with --seed 14 (and in every Debug mode call with --seed 13); =todo
-// prints a stub's TODO line.
+// with --seed 14 (and in every Debug mode call with --seed 13); =hang
+// loops for ever in the middle of a render with --seed 15 (and in every
+// Debug mode call with --seed 15); =todo prints a stub's TODO line.
 std::string planted() {
   const char* v = std::getenv("PT_VIEWER_PLANT");
   return v ? v : "";
@@ -149,6 +159,10 @@ int run_render(const RenderOptions& base) {
       if (o.seed == 13 && x == w / 2 && y == h / 2 && planted() == "crash") planted_crash_in_render(nullptr);
       if (o.seed == 14 && x == w / 2 && y == h / 2 && planted() == "crash")
         throw std::runtime_error("planted failure: a part threw an exception");
+      if (o.seed == 15 && x == w / 2 && y == h / 2 && planted() == "hang") {
+        volatile int spin = 1;
+        planted_infinite_loop_in_render(&spin);
+      }
 #endif
     };
     const RenderResult r = render_scene(scene, o, {}, after_pixel, &cache);
@@ -287,6 +301,10 @@ int worker_main(int argc, char** argv) {
     if (job == "bvh") return run_bvh(opts);
 #ifdef PT_VIEWER_PLANTS
     if (job == "debug" && planted() == "crash" && opts.seed == 13) planted_crash_in_debug_tool(nullptr);
+    if (job == "debug" && planted() == "hang" && opts.seed == 15) {
+      volatile int spin = 1;
+      planted_infinite_loop_in_debug_tool(&spin);
+    }
 #endif
     if (job == "debug") return run_debug(argv[3], argv[4], opts);
     std::fprintf(stderr, "ERROR unknown worker job '%s'\n", job.c_str());

@@ -167,3 +167,41 @@ cases.cross_site = async () => {
     await stopViewer(v);
   }
 };
+
+// Forty status requests waiting on a render that makes no progress (the
+// test build's planted endless loop) do not take every thread of the
+// server: those beyond its limit are answered at once ("busy"), and a
+// request for /api/state is answered while the others still wait.
+cases.long_polls = async () => {
+  const v = await startViewer(args.planted, ['-r', '32', '24', '-s', '1', '--seed', '15', SCENE()], {PT_VIEWER_PLANT: 'hang'});
+  try {
+    const r = await rawRequest(v, {method: 'POST', path: '/api/render', body: '{}',
+                                   headers: {'X-Token': v.token, 'Content-Type': 'application/json'}});
+    const job = JSON.parse(r.body).job;
+    const order = [];
+    const polls = [...Array(40).keys()].map((i) =>
+      rawRequest(v, {path: `/api/status?job=${job}&after=0&token=${v.token}`}).then((a) => {
+        const st = JSON.parse(a.body);
+        order.push(st.busy ? 'busy' : `poll ${st.state}`);
+        return st;
+      }));
+    // Every poll beyond the limit is answered at once; then /api/state.
+    const busy = await new Promise((resolve) => {
+      let n = 0;
+      for (const p of polls) p.then((st) => { if (st.busy && ++n === 24) resolve(n); });
+      Promise.all(polls).then(() => resolve(n));
+    });
+    check(busy === 24, 'the 24 status requests beyond the 16 that may wait are answered at once ("busy")', String(busy));
+    const state = await rawRequest(v, {path: `/api/state?token=${v.token}`});
+    order.push(`state ${state.status}`);
+    check(state.status === 200 && !order.slice(0, order.indexOf(`state ${state.status}`)).some((x) => x.startsWith('poll')),
+          '/api/state is answered while the 16 others still wait', order.join(', '));
+    await rawRequest(v, {method: 'POST', path: '/api/stop', body: '{}',
+                         headers: {'X-Token': v.token, 'Content-Type': 'application/json'}});
+    const all = await Promise.all(polls);
+    check(all.filter((st) => !st.busy).every((st) => st.state === 'cancelled'),
+          'Stop ends the render and answers the waiting ones', all.map((st) => st.state).join());
+  } finally {
+    await stopViewer(v);
+  }
+};

@@ -40,6 +40,17 @@ async function api(path, body) {
 }
 viewer.api = api;
 
+// The job's status once it has more than `after` frames or has ended (the
+// server waits up to 10 s before it answers anyway). When the server has
+// too many such requests waiting it answers at once with "busy": then
+// this one waits a second before the next.
+async function waitStatus(job, after) {
+  const st = await api(`/api/status?job=${job}&after=${after}`);
+  if (st.busy && st.state === 'running' && !(st.frames > after)) await new Promise((r) => setTimeout(r, 1000));
+  return st;
+}
+viewer.waitStatus = waitStatus;
+
 function banner(text, kind) {
   const b = $('banner');
   b.hidden = !text;
@@ -214,7 +225,7 @@ async function poll(job) {
   while (viewer.job === job) {
     let st;
     try {
-      st = await api(`/api/status?job=${job}&after=${after}`);
+      st = await waitStatus(job, after);
     } catch (e) {
       if (viewer.job === job) banner(`lost the server: ${e.message}`, 'error');
       return;
@@ -359,7 +370,7 @@ async function startNormals() {
     const st = await api('/api/normals', request());
     viewer.normalsJob = st.job;
     let s = st;
-    while (s.state === 'running' && viewer.normalsJob === st.job) s = await api(`/api/status?job=${st.job}&after=0`);
+    while (s.state === 'running' && viewer.normalsJob === st.job) s = await waitStatus(st.job, 0);
     if (s.state === 'done') viewer.normalsReady = st.job;
     if (viewer.normalsJob === st.job) await drawOverlay();
   } catch (e) {

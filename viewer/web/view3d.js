@@ -357,7 +357,7 @@ export function create(viewer, hooks) {
     if (state.bvhKey === key && state.bvh) return state.bvh;
     $('bvh-info').textContent = 'building the BVH…';
     let st = await hooks.api('/api/bvh', req);
-    while (st.state === 'running') st = await hooks.api(`/api/status?job=${st.job}&after=0`);
+    while (st.state === 'running') st = await viewer.waitStatus(st.job, 0);
     if (st.state !== 'done') {
       $('bvh-info').textContent = '';
       const lines = [st.message];

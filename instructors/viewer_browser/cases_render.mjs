@@ -231,9 +231,6 @@ cases.rate_overlay = async () => {
   });
 };
 
-// Requests without the token are refused; files outside the folders named
-
-
 // A build whose part prints a stub's TODO line: the page says which part
 // and function, and still shows the image.
 cases.todo_banner = async () => {

@@ -33,7 +33,7 @@ cases.token_and_paths = async () => {
                                  ['a symlink out of the folder', path.join(dir, 'link.dae')]]) {
       const res = await post(JSON.stringify({scene}));
       const body = await res.json();
-      check(res.status === 403 && /outside the folders/.test(body.error), `${what} is refused`, `${res.status} ${body.error}`);
+      check(res.status === 403 && /not a file the viewer may open/.test(body.error), `${what} is refused`, `${res.status} ${body.error}`);
     }
     for (const [what, body, status] of [['malformed JSON', '{"samples": ', 400],
                                         ['negative samples', '{"samples": -4}', 400],
@@ -203,5 +203,55 @@ cases.long_polls = async () => {
           'Stop ends the render and answers the waiting ones', all.map((st) => st.state).join());
   } finally {
     await stopViewer(v);
+  }
+};
+
+// Camera files (-c) from the page: only files with the course's six lines
+// of numbers are read (the renderer's errors would quote any other file),
+// and a missing file and one outside the folders get the same answer.
+cases.camera_files = async () => {
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'pt-viewer-cameras-'));
+  fs.copyFileSync(SCENE(), path.join(dir, 'scene.dae'));
+  fs.writeFileSync(path.join(dir, 'notes'), 'SECRET_WORD=swordfish\n');
+  fs.writeFileSync(path.join(dir, 'camera.txt'),
+                   ['30 22.5 1.333 0.1 100', '0 1 4 0 1 0', '1.57 0 4 0.4 40', '1 0 0 0 1 0 0 0 1', '480 360 1', '4 0']
+                     .join('\n') + '\n');
+  // Allowed everywhere (as --allow / would): still only camera files.
+  const v = await startViewer(args.viewer, ['--allow', '/', '-r', '32', '24', path.join(dir, 'scene.dae')]);
+  try {
+    const ask = async (camera_file) => {
+      const r = await rawRequest(v, {method: 'POST', path: '/api/scene', body: JSON.stringify({camera_file}),
+                                     headers: {'X-Token': v.token, 'Content-Type': 'application/json'}});
+      return {status: r.status, error: r.status === 200 ? '' : JSON.parse(r.body).error};
+    };
+    const environ = await ask('/proc/self/environ');
+    check(environ.status === 403 && !/=/.test(environ.error.replace('/proc/self/environ', '')),
+          '/proc/self/environ is not a camera file, and nothing of it is quoted', JSON.stringify(environ));
+    const notes = await ask(path.join(dir, 'notes'));
+    check(notes.status === 403 && !notes.error.includes('SECRET') && /not a camera settings file/.test(notes.error),
+          'an extension-less text file is not a camera file, and nothing of it is quoted', JSON.stringify(notes));
+    const good = await ask(path.join(dir, 'camera.txt'));
+    check(good.status === 200, 'a file in the course\'s six-line format is read', JSON.stringify(good));
+    // Outside the folders: missing or there, the same answer.
+    const v2 = await startViewer(args.viewer, ['-r', '32', '24', path.join(dir, 'scene.dae')]);
+    try {
+      const ask2 = async (camera_file) => {
+        const r = await rawRequest(v2, {method: 'POST', path: '/api/render', body: JSON.stringify({camera_file}),
+                                        headers: {'X-Token': v2.token, 'Content-Type': 'application/json'}});
+        return {status: r.status, error: JSON.parse(r.body).error || ''};
+      };
+      const state = JSON.parse((await rawRequest(v2, {path: `/api/state?token=${v2.token}`})).body);
+      check(JSON.stringify(state.cameras) === JSON.stringify([fs.realpathSync(path.join(dir, 'camera.txt'))]),
+            'the page lists camera.txt as a camera file, and not notes', JSON.stringify(state.cameras));
+      const there = await ask2('/etc/hostname'), missing = await ask2('/etc/no-such-file-here');
+      check(there.status === missing.status &&
+            there.error.replace('/etc/hostname', 'X') === missing.error.replace('/etc/no-such-file-here', 'X'),
+            'a file outside the folders and a missing one get the same answer', JSON.stringify([there, missing]));
+    } finally {
+      await stopViewer(v2);
+    }
+  } finally {
+    await stopViewer(v);
+    fs.rmSync(dir, {recursive: true, force: true});
   }
 };

@@ -102,7 +102,7 @@ TEST_CASE("the page opens only files of the right kind inside the allowed folder
   CHECK(scene(allowed.path / "sub" / "deep.dae") == root + "/sub/deep.dae");
   CHECK(scene(allowed.path / "alias.dae") == root + "/scene.dae");  // a link that stays inside
   CHECK(scene(allowed.path / "link.dae").empty());                  // a link out
-  CHECK(why.find("outside the folders") != std::string::npos);
+  CHECK(why.find("not a file the viewer may open") != std::string::npos);
   CHECK(scene(allowed.path / "door" / "secret.dae").empty());       // through a linked folder
   CHECK(scene(allowed.path / ".." / outside.path.filename() / "secret.dae").empty());
   CHECK(scene(outside.path / "secret.dae").empty());
@@ -111,8 +111,6 @@ TEST_CASE("the page opens only files of the right kind inside the allowed folder
   CHECK(scene(allowed.path / "notes.md").empty());                  // not a scene
   CHECK(scene(allowed.path / "sub").empty());                       // a folder
   CHECK(scene("").empty());
-  CHECK(files.resolve((allowed.path / "camera.txt").string(), viewer::FileKind::Camera, &why) ==
-        root + "/camera.txt");
 
   const auto listed = files.list(viewer::FileKind::Scene);
   CHECK(listed == std::vector<std::string>{root + "/scene.dae", root + "/sub/deep.dae"});
@@ -265,4 +263,50 @@ TEST_CASE("requests another site's page can make a browser send are refused, the
   httplib::Request api_from_elsewhere = with(page("GET", "/api/state"), "Sec-Fetch-Site", "cross-site");
   api_from_elsewhere.params.emplace("token", token);
   CHECK(status(api_from_elsewhere) == 403);
+}
+
+TEST_CASE("camera files are files of the course's format; nothing of another file is quoted", "[viewer]") {
+  TempDir allowed, outside;
+  const std::string six = "30 22.5 1.333 0.1 100\n0 1 4 0 1 0\n1.57 0 4 0.4 40\n1 0 0 0 1 0 0 0 1\n480 360 1\n4 0\n";
+  std::ofstream(allowed.path / "camera.txt") << six;
+  std::ofstream(allowed.path / "view") << "\n" << six << "\n";  // no extension, blank lines around
+  std::ofstream(allowed.path / "notes") << "SECRET_WORD=swordfish\n";
+  std::ofstream(allowed.path / "short.txt") << "30 22.5 1.333 0.1 100\n0 1 4 0 1 0\n";
+  std::ofstream(allowed.path / "words.txt") << "30 22.5 1.333 0.1 100\n0 1 4 0 1 zero\n1.57 0 4 0.4 40\n";
+  std::ofstream(allowed.path / "huge.txt") << six << std::string(20000, ' ') << "\n";
+  std::ofstream(outside.path / "secret.txt") << six;
+  viewer::FileAccess files;
+  files.allow_folder(allowed.path.string());
+  const std::string root = fs::canonical(allowed.path).string();
+  std::string why;
+  const auto camera = [&](const fs::path& p) { return files.resolve(p.string(), viewer::FileKind::Camera, &why); };
+  CHECK(camera(allowed.path / "camera.txt") == root + "/camera.txt");
+  CHECK(camera(allowed.path / "view") == root + "/view");
+  for (const char* name : {"notes", "short.txt", "words.txt", "huge.txt"}) {
+    INFO(name);
+    CHECK(camera(allowed.path / name).empty());
+    CHECK(why.find("not a camera settings file") != std::string::npos);
+    CHECK(why.find("SECRET") == std::string::npos);
+    CHECK(why.find("zero") == std::string::npos);
+  }
+  CHECK(files.list(viewer::FileKind::Camera) == std::vector<std::string>{root + "/camera.txt", root + "/view"});
+
+  // With everything allowed, a file of the system is still no camera file.
+  viewer::FileAccess everything;
+  everything.allow_folder("/");
+  CHECK(everything.resolve("/proc/self/environ", viewer::FileKind::Camera, &why).empty());
+  CHECK(why == "/proc/self/environ: not a camera settings file (the course's six lines of numbers)");
+
+  // Outside the folders, a file that is there and one that is not get the
+  // same answer; inside, a missing file is said to be missing.
+  std::string there, missing;
+  CHECK(camera(outside.path / "secret.txt").empty());
+  there = why.substr(why.find(':'));
+  CHECK(camera(outside.path / "nothing.txt").empty());
+  missing = why.substr(why.find(':'));
+  CHECK(there == missing);
+  CHECK(camera(allowed.path / ".." / outside.path.filename() / "nothing.txt").empty());
+  CHECK(why.substr(why.find(':')) == missing);
+  CHECK(camera(allowed.path / "nothing.txt").empty());
+  CHECK(why == (allowed.path / "nothing.txt").string() + ": no such file");
 }

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +35,9 @@ struct App {
   std::vector<ViewerCase> cases;
   int port = 0;  // the port it listens on, once bound
   std::atomic<int> waiting_polls{0};  // status requests waiting now
+  // Held while a frame is converted into an image for the page or a PNG,
+  // so that requests at once never hold more than one conversion's memory.
+  std::mutex converting;
 
   explicit App(ServerConfig c) : cfg(std::move(c)), workers(cfg.worker_exe) {}
 };

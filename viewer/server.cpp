@@ -3,6 +3,7 @@
 // serve: the page, the scene, renders, the BVH.
 #include "viewer/server.h"
 
+#include <malloc.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -122,8 +123,12 @@ void set_image_headers(httplib::Response& res, const Frame& f) {
   res.set_header("X-Pass", std::to_string(f.pass));
 }
 
-void send_bytes(httplib::Response& res, const std::vector<uint8_t>& bytes, const char* type) {
-  res.set_content(std::string(bytes.begin(), bytes.end()), type);
+// Sends `bytes` as they are: the response keeps them until it is written.
+void send_bytes(httplib::Response& res, std::vector<uint8_t> bytes, const char* type) {
+  auto kept = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
+  res.set_content_provider(kept->size(), type, [kept](size_t offset, size_t length, httplib::DataSink& sink) {
+    return sink.write(reinterpret_cast<const char*>(kept->data()) + offset, std::min<size_t>(length, 1 << 20));
+  });
 }
 
 // Refuses what access.h refuses (a JSON error under /api/, a line of text
@@ -324,10 +329,14 @@ void add_render_routes(httplib::Server& svr, App& app) {
     job->last_seen = now_seconds();
     send_json(res, job_json(*job));
   }));
+  // Images are converted one at a time (App::converting); a PFM is
+  // streamed from the frame.
   svr.Get("/api/image", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto [job, f] = job_frame(app, req);
-    const Overlay o = frame_overlay(*f, req.get_param_value("kind"), job->opts.samples_per_pixel);
-    send_bytes(res, o.rgb, "application/octet-stream");
+    std::unique_lock<std::mutex> one(app.converting);
+    Overlay o = frame_overlay(*f, req.get_param_value("kind"), job->opts.samples_per_pixel);
+    one.unlock();
+    send_bytes(res, std::move(o.rgb), "application/octet-stream");
     set_image_headers(res, *f);
     res.set_header("X-Samples", std::to_string(f->samples));
     res.set_header("X-Scale", num(o.scale));
@@ -340,20 +349,31 @@ void add_render_routes(httplib::Server& svr, App& app) {
     const std::string name = req.get_param_value("case");
     const ViewerCase* vc = find_case(app.cases, name);
     if (!vc) throw BadRequest("case: no grading case named '" + name + "'", 404);
-    const Difference d = difference_overlay(*f, job->opts, *vc, app.cfg.source_dir + "/reference_images");
-    send_bytes(res, d.picture.rgb, "application/octet-stream");
+    std::unique_lock<std::mutex> one(app.converting);
+    Difference d = difference_overlay(*f, job->opts, *vc, app.cfg.source_dir + "/reference_images");
+    one.unlock();
+    send_bytes(res, std::move(d.picture.rgb), "application/octet-stream");
     set_image_headers(res, *f);
     res.set_header("X-Scale", num(d.picture.scale));
     res.set_header("X-Summary", d.verdict);
   }));
   svr.Get("/api/png", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto [job, f] = job_frame(app, req);
-    send_bytes(res, encode_png(f->image()), "image/png");
+    std::unique_lock<std::mutex> one(app.converting);
+    std::vector<uint8_t> png = frame_png(*f);
+    one.unlock();
+    send_bytes(res, std::move(png), "image/png");
     res.set_header("Content-Disposition", "attachment; filename=\"render.png\"");
   }));
   svr.Get("/api/pfm", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto [job, f] = job_frame(app, req);
-    send_bytes(res, encode_pfm(f->image()), "application/octet-stream");
+    const std::shared_ptr<const Frame> frame = f;
+    res.set_content_provider(frame_pfm_size(*frame), "application/octet-stream",
+                             [frame](size_t offset, size_t length, httplib::DataSink& sink) {
+                               std::vector<char> chunk(std::min<size_t>(length, 1 << 16));
+                               frame_pfm_bytes(*frame, offset, chunk.size(), chunk.data());
+                               return sink.write(chunk.data(), chunk.size());
+                             });
     res.set_header("Content-Disposition", "attachment; filename=\"render.pfm\"");
   }));
 }
@@ -398,6 +418,11 @@ int run_server(ServerConfig cfg) {
                  "in viewer/web)\n",
                  three_dir(c).c_str());
 
+  // Frames are large (20 bytes a pixel): allocations of a megabyte or more
+  // are mapped on their own and given back to the system when freed,
+  // whatever sizes came before (glibc otherwise raises this threshold to
+  // the largest block freed, and keeps such blocks in its heap).
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   httplib::Server svr;
   g_server = &svr;
   svr.set_payload_max_length(1 << 16);

@@ -3,7 +3,8 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import {args, check, rawRequest, startViewer, stopViewer, tryStartViewer, SCENE} from './harness.mjs';
+import {args, check, rawRequest, startViewer, stopViewer, tryStartViewer, SCENE, memoryMB, resetPeakMemory, postJson,
+        jobEnd} from './harness.mjs';
 
 export const cases = {};
 
@@ -253,5 +254,39 @@ cases.camera_files = async () => {
   } finally {
     await stopViewer(v);
     fs.rmSync(dir, {recursive: true, force: true});
+  }
+};
+
+// The server's memory stays bounded: three renders in a row keep one
+// render's image (20 bytes a pixel), not three, and six clients
+// downloading its PFM or its PNG at once cost at most one more image
+// (the PFM is streamed, PNGs are made one at a time). 2048x1024, part 1:
+// an image is 40 MiB.
+cases.memory_bound = async () => {
+  const frameMB = 2048 * 1024 * 20 / (1 << 20);
+  const v = await startViewer(args.viewer, ['--part', '1', '-r', '2048', '1024', '-s', '1', '-t', '2', SCENE()]);
+  try {
+    const rss = [];
+    let job = null;
+    for (let i = 0; i < 3; ++i) {
+      job = (await postJson(v, '/api/render', {seed: i})).json.job;
+      const end = await jobEnd(v, job);
+      check(end.state === 'done', `render ${i + 1} of 3 finishes`, end.state);
+      rss.push(memoryMB(v.proc.pid).rss);
+    }
+    check(rss[2] - rss[0] <= frameMB / 2, `after three renders the server holds one image: ${rss.join(' -> ')} MB (an image: ${frameMB} MB)`,
+          `${rss[2] - rss[0]} MB more after the third than after the first`);
+    for (const [kind, bound] of [['pfm', frameMB / 2], ['png', frameMB]]) {
+      resetPeakMemory(v.proc.pid);
+      const before = memoryMB(v.proc.pid).rss;
+      const got = await Promise.all([...Array(6).keys()].map(() =>
+        rawRequest(v, {path: `/api/${kind}?job=${job}&token=${v.token}`, discard: true})));
+      const peak = memoryMB(v.proc.pid).peak;
+      check(got.every((g) => g.status === 200 && g.bytes === got[0].bytes && g.bytes > 0), `six ${kind.toUpperCase()} downloads at once are answered`,
+            got.map((g) => `${g.status}/${g.bytes}`).join());
+      check(peak - before <= bound, `their peak is at most ${bound} MB above the ${before} MB before them`, `peak ${peak} MB`);
+    }
+  } finally {
+    await stopViewer(v);
   }
 };

@@ -184,14 +184,16 @@ export async function fetchBytes(v, p) {
 // One HTTP request to a viewer with exactly the headers given (Host,
 // Origin and Content-Type included, which a browser's fetch would set
 // itself), on its own connection. Resolves with {status, headers, body}
-// (the body as text).
-export function rawRequest(v, {method = 'GET', path: p = '/', headers = {}, body}) {
+// (the body as text; with `discard`, only its length, as `bytes`).
+export function rawRequest(v, {method = 'GET', path: p = '/', headers = {}, body, discard = false}) {
   return new Promise((resolve, reject) => {
     const req = http.request({host: '127.0.0.1', port: v.port, method, path: p, agent: false,
                               headers: Object.assign({Host: `127.0.0.1:${v.port}`}, headers)}, (res) => {
       const chunks = [];
-      res.on('data', (c) => chunks.push(c));
-      res.on('end', () => resolve({status: res.statusCode, headers: res.headers, body: Buffer.concat(chunks).toString()}));
+      let bytes = 0;
+      res.on('data', (c) => { bytes += c.length; if (!discard) chunks.push(c); });
+      res.on('end', () => resolve({status: res.statusCode, headers: res.headers, bytes,
+                                   body: discard ? '' : Buffer.concat(chunks).toString()}));
     });
     req.on('error', reject);
     if (body !== undefined) req.write(body);
@@ -214,3 +216,31 @@ export function summary() {
   return {passes, failures};
 }
 
+
+// A process's resident memory and its peak since the last resetPeakMemory,
+// in MB (/proc/PID/status).
+export function memoryMB(pid) {
+  const st = fs.readFileSync(`/proc/${pid}/status`, 'utf8');
+  const kb = (key) => Number(new RegExp(`^${key}:\\s+(\\d+) kB`, 'm').exec(st)[1]);
+  return {rss: Math.round(kb('VmRSS') / 1024), peak: Math.round(kb('VmHWM') / 1024)};
+}
+export function resetPeakMemory(pid) {
+  fs.writeFileSync(`/proc/${pid}/clear_refs`, '5');
+}
+
+// POSTs `body` (JSON) to `p` with the token.
+export async function postJson(v, p, body) {
+  const r = await rawRequest(v, {method: 'POST', path: p, body: JSON.stringify(body),
+                                 headers: {'X-Token': v.token, 'Content-Type': 'application/json'}});
+  return {status: r.status, json: JSON.parse(r.body)};
+}
+
+// Waits (status long polls) until job `job` has ended; resolves with its status.
+export async function jobEnd(v, job) {
+  let st = {state: 'running', frames: 0};
+  while (st.state === 'running') {
+    const r = await rawRequest(v, {path: `/api/status?job=${job}&after=${st.frames}&token=${v.token}`});
+    st = JSON.parse(r.body);
+  }
+  return st;
+}

@@ -10,7 +10,8 @@
 // debug_crash, debug_todo; `--measure` prints timings instead (not a test; `--measure bvh` only BVH mode's frames,
 // `--frames N` of them, default 120; `late` is the share of frames over 20 ms).
 // Every wait is on an event of the page or a process, never a fixed delay.
-import {args, OUT, summary, withViewerPage, waitEvent, lastJob, renderEnd, SCENE} from './harness.mjs';
+import {args, OUT, summary, withViewerPage, waitEvent, lastJob, renderEnd, SCENE, startViewer, stopViewer, postJson, jobEnd,
+        rawRequest, memoryMB, resetPeakMemory} from './harness.mjs';
 import {cases as render} from './cases_render.mjs';
 import {cases as bvh} from './cases_bvh.mjs';
 import {cases as debug} from './cases_debug.mjs';
@@ -20,8 +21,37 @@ import path from 'node:path';
 
 const cases = Object.assign({}, render, bvh, debug, server, access);
 
+// Not a test: the server's memory (resident, in MB) with three 8192x4096
+// part 1 renders in a row, and its peak while six clients download the
+// last one's PFM (and then its PNG) at once.
+async function measureMemory() {
+  const v = await startViewer(args.viewer, ['--part', '1', '-r', '8192', '4096', '-s', '1', '-t', '2', SCENE()]);
+  const results = {viewer: args.viewer, start: memoryMB(v.proc.pid).rss, after_render: []};
+  try {
+    let job = null;
+    for (let i = 0; i < 3; ++i) {
+      job = (await postJson(v, '/api/render', {seed: i})).json.job;
+      const end = await jobEnd(v, job);
+      if (end.state !== 'done') throw new Error(`render ${job}: ${end.state} ${end.message}`);
+      results.after_render.push(memoryMB(v.proc.pid).rss);
+    }
+    for (const kind of ['pfm', 'png']) {
+      resetPeakMemory(v.proc.pid);
+      const before = memoryMB(v.proc.pid).rss;
+      const got = await Promise.all([...Array(6).keys()].map(() =>
+        rawRequest(v, {path: `/api/${kind}?job=${job}&token=${v.token}`, discard: true})));
+      results[`six_${kind}_downloads`] = {before, peak: memoryMB(v.proc.pid).peak, after: memoryMB(v.proc.pid).rss,
+                                          bytes_each: got.map((g) => g.bytes)};
+    }
+  } finally {
+    await stopViewer(v);
+  }
+  console.log(JSON.stringify(results, null, 2));
+}
+
 // Not a test: timings for the report.
 async function measure() {
+  if (args.measure === 'memory') return measureMemory();
   const results = {};
   if (args.measure !== 'bvh') {
     const flags = ['-r', '480', '360', '-t', '2', '-s', '64', '-l', '4', '-m', '5', SCENE()];

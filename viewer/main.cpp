@@ -1,11 +1,12 @@
 // viewer: the student's window on this build, a local web app.
-//   viewer [--port N] [--allow DIR]... [pathtracer flags] scene.dae
+//   viewer [--port N] [--allow DIR]... [--idle-stop S] [pathtracer flags] scene.dae
 // prints one URL and serves until Ctrl-C. The render flags set the page's
 // starting settings; the page may open scene, camera and environment files
 // in the folders of the files named here and in the --allow folders.
 #include <unistd.h>
 
 #include <climits>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -41,10 +42,20 @@ int main(int argc, char** argv) {
     std::vector<char*> rest = {argv[0]};
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
-      if ((a == "--port" || a == "--allow") && i + 1 < argc) {
+      if ((a == "--port" || a == "--allow" || a == "--idle-stop") && i + 1 < argc) {
         const std::string v = argv[++i];
         if (a == "--allow") {
           allow.push_back(v);
+          continue;
+        }
+        if (a == "--idle-stop") {
+          char* end = nullptr;
+          const double s = std::strtod(v.c_str(), &end);
+          if (v.empty() || *end != '\0' || !(s >= 0.1 && s <= 86400)) {
+            std::fprintf(stderr, "viewer: error: --idle-stop: expected seconds from 0.1 to 86400, got '%s'\n", v.c_str());
+            return 2;
+          }
+          cfg.idle_stop_seconds = s;
           continue;
         }
         if (v.empty() || v.size() > 5 || v.find_first_not_of("0123456789") != std::string::npos ||
@@ -53,17 +64,18 @@ int main(int argc, char** argv) {
           return 2;
         }
         cfg.port = std::stoi(v);
-      } else if (a == "--port" || a == "--allow") {
+      } else if (a == "--port" || a == "--allow" || a == "--idle-stop") {
         std::fprintf(stderr, "viewer: error: %s needs a value\n", a.c_str());
         return 2;
       } else if (a == "-h" || a == "--help") {
         std::printf(
             "viewer: watch this build render and walk its BVH, in the browser.\n"
-            "Usage: viewer [--port N] [--allow DIR]... [pathtracer flags] scene.dae\n"
+            "Usage: viewer [--port N] [--allow DIR]... [--idle-stop S] [pathtracer flags] scene.dae\n"
             "Prints one URL (with its access token) and serves on 127.0.0.1 until Ctrl-C.\n"
             "  --port N     listen on port N (default: any free port)\n"
             "  --allow DIR  let the page open scene, camera (-c) and environment (-e) files in DIR too\n"
             "               (the folders of the files named on the command line are always allowed)\n"
+            "  --idle-stop S  stop a render or Debug call no page has asked about for S seconds (default 30)\n"
             "The pathtracer flags (-s -l -m -o -H -t -a -b -d -r -c -e --part --seed ...) set the starting\n"
             "settings; see 'pathtracer -h'. viewer/README.md describes the page.\n");
         return 0;

@@ -39,7 +39,7 @@ struct App {
   // so that requests at once never hold more than one conversion's memory.
   std::mutex converting;
 
-  explicit App(ServerConfig c) : cfg(std::move(c)), workers(cfg.worker_exe) {}
+  explicit App(ServerConfig c) : cfg(std::move(c)), workers(cfg.worker_exe, cfg.source_dir) {}
 };
 
 // Starts a job of `kind` ("render", "normals" or "bvh") for the request's

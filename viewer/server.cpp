@@ -150,16 +150,20 @@ void add_access_check(httplib::Server& svr, const std::string& token, const int&
   });
 }
 
-// Serves until stopped; a render nobody watches (the page was closed) is
-// stopped after 30 s.
+// Serves until stopped; a job nobody watches (its page was closed) is
+// stopped after cfg.idle_stop_seconds.
 void serve(httplib::Server& svr, App& app) {
   std::mutex watch_mu;
   std::condition_variable watch_cv;
   bool watching = true;
+  const double idle = app.cfg.idle_stop_seconds;
   std::thread watchdog([&] {
     std::unique_lock<std::mutex> lock(watch_mu);
-    while (!watch_cv.wait_for(lock, std::chrono::seconds(5), [&] { return !watching; }))
-      app.workers.stop_unwatched(30.0);
+    const auto period = std::chrono::duration<double>(std::min(5.0, std::max(0.1, idle / 2)));
+    while (!watch_cv.wait_for(lock, period, [&] { return !watching; }))
+      for (const auto& job : app.workers.stop_unwatched(idle))
+        std::fprintf(stderr, "viewer: stopped job %llu (%s): no page asked about it for %g s\n",
+                     (unsigned long long)job->id, job->kind.c_str(), idle);
   });
   svr.listen_after_bind();
   {
@@ -294,9 +298,9 @@ void add_render_routes(httplib::Server& svr, App& app) {
       const double id = body.num("job", -1);
       auto job = id >= 0 ? app.workers.find(uint64_t(id)) : nullptr;
       if (!job) throw BadRequest("no such job (it may have been replaced by newer ones)", 404);
-      app.workers.stop(job);
+      app.workers.stop(job, "stopped");
     } else {
-      app.workers.stop_kind("render");
+      app.workers.stop_kind("render", "stopped");
     }
     send_json(res, "{}");
   }));

@@ -1,6 +1,5 @@
 #include "viewer/worker.h"
 
-#include <execinfo.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -23,13 +22,21 @@
 #include "pathtracer/options.h"
 #include "pathtracer/render_job.h"
 #include "common/todo.h"
+#include "viewer/worker_watch.h"
 
 namespace pt::viewer {
 
 #ifdef PT_VIEWER_PLANTS
-// Outside the unnamed namespace, so that the backtrace can name it.
+// Outside the unnamed namespace, so that a report can name them.
 __attribute__((noinline, noipa)) void planted_crash_in_render(volatile int* p) { *p = 1; }
 __attribute__((noinline, noipa)) void planted_crash_in_debug_tool(volatile int* p) { *p = 1; }
+// A recursion that never ends: the stack overflows.
+__attribute__((noinline, noipa)) int planted_endless_recursion(volatile int* depth) {
+  volatile char frame[256];
+  frame[0] = char(*depth);
+  ++*depth;
+  return *depth >= 0 ? planted_endless_recursion(depth) + frame[0] : 0;
+}
 // A loop that never ends (until the worker is killed).
 __attribute__((noinline, noipa)) void planted_infinite_loop_in_render(volatile int* spin) {
   while (*spin) {
@@ -44,6 +51,10 @@ __attribute__((noinline, noipa)) void planted_infinite_loop_in_debug_tool(volati
 namespace {
 
 int g_protocol_fd = -1;  // the worker's real standard output
+
+// A job that has not moved on for this long is reported stuck (an endless
+// loop in a part's code, most likely): a STALL line (worker_watch.h).
+constexpr double kStallSeconds = 5.0;
 
 void write_all(const void* data, size_t n) {
   const char* p = static_cast<const char*>(data);
@@ -63,37 +74,16 @@ void write_message(const std::string& head, const std::vector<uint8_t>& payload)
   if (!payload.empty()) write_all(payload.data(), payload.size());
 }
 
-// A fault in a part's code: name the signal and print the stack, then die
-// of the same signal so that the server sees how the worker ended.
-void on_fault(int sig) {
-  const char* name = sig == SIGSEGV ? "SIGSEGV" : sig == SIGBUS ? "SIGBUS" : sig == SIGFPE ? "SIGFPE"
-                     : sig == SIGILL ? "SIGILL" : sig == SIGABRT ? "SIGABRT" : "SIGNAL";
-  const char head[] = "CRASH ";
-  (void)!::write(2, head, sizeof head - 1);
-  (void)!::write(2, name, std::strlen(name));
-  (void)!::write(2, "\n", 1);
-  void* frames[64];
-  const int n = backtrace(frames, 64);
-  backtrace_symbols_fd(frames, n, 2);
-  std::signal(sig, SIG_DFL);
-  std::raise(sig);
-}
-
-void install_fault_handlers() {
-  // backtrace() loads libgcc on first use, which is not safe inside a
-  // signal handler: do it now.
-  void* warm[2];
-  backtrace(warm, 2);
-  for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(sig, on_fault);
-}
-
 #ifdef PT_VIEWER_PLANTS
 // Test builds only: faults planted by the environment, to test how the
 // server reports them. PT_VIEWER_PLANT=crash dereferences a null pointer
 // in the middle of a render with --seed 13 and throws an exception there
-// with --seed 14 (and in every Debug mode call with --seed 13); =hang
-// loops for ever in the middle of a render with --seed 15 (and in every
-// Debug mode call with --seed 15); =todo prints a stub's TODO line.
+// with --seed 14 (and in every Debug mode call with --seed 13), and
+// dereferences it in every pixel with --seed 16 (every render thread
+// crashes at once), and recurses until the stack overflows with --seed 17;
+// =hang loops for ever in the middle of a render with
+// --seed 15 (and in every Debug mode call with --seed 15); =todo prints a
+// stub's TODO line.
 std::string planted() {
   const char* v = std::getenv("PT_VIEWER_PLANT");
   return v ? v : "";
@@ -141,6 +131,8 @@ int run_render(const RenderOptions& base) {
   };
   int pass = 0;
   RenderCache cache;  // the BVH is built by the first pass and reused
+  std::atomic<uint64_t> pixels_done{0};
+  const StallWatch watch(pixels_done, kStallSeconds);
   for (int n = next_pass_samples(0, target);; n = next_pass_samples(n, target)) {
     RenderOptions o = base;
     o.samples_per_pixel = n;
@@ -163,9 +155,18 @@ int run_render(const RenderOptions& base) {
         volatile int spin = 1;
         planted_infinite_loop_in_render(&spin);
       }
+      if (o.seed == 16 && planted() == "crash") planted_crash_in_render(nullptr);
+      if (o.seed == 17 && x == w / 2 && y == h / 2 && planted() == "crash") {
+        volatile int depth = 0;
+        planted_endless_recursion(&depth);
+      }
 #endif
+      ++pixels_done;
     };
-    const RenderResult r = render_scene(scene, o, {}, after_pixel, &cache);
+    RenderHooks hooks;
+    hooks.before_pixel = [](int, int) { prepare_thread_for_faults(); };
+    hooks.after_pixel = after_pixel;
+    const RenderResult r = render_scene(scene, o, hooks, &cache);
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::vector<uint8_t> payload(size_t(w) * h * 20);
     for (size_t i = 0; i < size_t(w) * h; ++i) {
@@ -254,6 +255,15 @@ int run_bvh(const RenderOptions& o) {
 int run_debug(const std::string& tool, const std::string& input, const RenderOptions& o) {
   int status = 200;
   std::string body;
+  const std::atomic<uint64_t> no_progress{0};  // a call is one step: stuck once it takes long
+  const StallWatch watch(no_progress, kStallSeconds);
+#ifdef PT_VIEWER_PLANTS
+  if (planted() == "crash" && o.seed == 13) planted_crash_in_debug_tool(nullptr);
+  if (planted() == "hang" && o.seed == 15) {
+    volatile int spin = 1;
+    planted_infinite_loop_in_debug_tool(&spin);
+  }
+#endif
   try {
     body = run_debug_tool(tool, input, o, [&] { return load_scene(o); });
   } catch (const debug::InputError& e) {
@@ -299,13 +309,6 @@ int worker_main(int argc, char** argv) {
 #endif
     if (job == "render") return run_render(opts);
     if (job == "bvh") return run_bvh(opts);
-#ifdef PT_VIEWER_PLANTS
-    if (job == "debug" && planted() == "crash" && opts.seed == 13) planted_crash_in_debug_tool(nullptr);
-    if (job == "debug" && planted() == "hang" && opts.seed == 15) {
-      volatile int spin = 1;
-      planted_infinite_loop_in_debug_tool(&spin);
-    }
-#endif
     if (job == "debug") return run_debug(argv[3], argv[4], opts);
     std::fprintf(stderr, "ERROR unknown worker job '%s'\n", job.c_str());
     return 2;

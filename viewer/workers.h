@@ -18,6 +18,7 @@
 #include "common/image.h"
 #include "common/json.h"
 #include "pathtracer/options.h"
+#include "viewer/symbols.h"
 
 namespace pt::viewer {
 
@@ -78,8 +79,15 @@ struct Job {
   std::string result;
   std::shared_ptr<const std::vector<uint8_t>> bvh;
   bool cancel_requested = false;
+  std::string cancel_reason;  // "replaced by a newer job", "stopped", ...
   int waiting_polls = 0;  // status requests waiting on it now
-  std::string crash_signal, crash_function;
+  std::string crash_signal;             // the worker's crash report (worker_watch.h)
+  std::vector<ThreadPlace> crash_place;
+  // The worker's last stall report: no progress for `stall_seconds` (at
+  // `stall_at`), in `stall_function` (at `stall_where`, with debug
+  // information); 0 when it is moving.
+  double stall_seconds = 0, stall_at = 0;
+  std::string stall_function, stall_where;
   double started = 0;
   double last_seen = 0;  // the last status request for it
 };
@@ -91,7 +99,9 @@ double now_seconds();
 // few jobs kept for the page.
 class Workers {
  public:
-  explicit Workers(std::string exe) : exe_(std::move(exe)) {}
+  // `exe` is the worker's program (this one); `source_dir` the project's
+  // folder, from which reports name files.
+  Workers(std::string exe, std::string source_dir) : exe_(std::move(exe)), source_dir_(std::move(source_dir)) {}
 
   // Starts a job of `kind` ("render", "normals", "bvh" or "debug") for
   // `opts` with `flags`. The running job of the same kind is stopped first,
@@ -101,13 +111,13 @@ class Workers {
 
   std::shared_ptr<Job> find(uint64_t id);
   // Stops every running job of `kind`, or `job`; returns once their
-  // workers are gone.
-  void stop_kind(const std::string& kind);
-  void stop(const std::shared_ptr<Job>& job);
+  // workers are gone. `reason` becomes the job's message.
+  void stop_kind(const std::string& kind, const std::string& reason);
+  void stop(const std::shared_ptr<Job>& job, const std::string& reason);
   // Stops every running job that no page has asked about for `seconds`
   // (no status request waiting, none in that time): a closed tab leaves
-  // no worker running.
-  void stop_unwatched(double seconds);
+  // no worker running. Returns the jobs it stopped.
+  std::vector<std::shared_ptr<Job>> stop_unwatched(double seconds);
   void stop_all();
   // How many workers are alive.
   size_t alive();
@@ -117,10 +127,10 @@ class Workers {
   // replaces (cancelled), if any.
   std::shared_ptr<Job> enter(const std::shared_ptr<Job>& job);
   // Kills `jobs`' workers and waits until each is gone.
-  void stop_and_wait(const std::vector<std::shared_ptr<Job>>& jobs);
+  void stop_and_wait(const std::vector<std::shared_ptr<Job>>& jobs, const std::string& reason);
   void watch(std::shared_ptr<Job> job, int out_fd, int err_fd);
 
-  std::string exe_;
+  std::string exe_, source_dir_;
   std::mutex start_mu_;  // one start at a time, from cancelling the previous job to the new pid
   std::mutex mu_;
   std::condition_variable gone_cv_;
@@ -131,8 +141,9 @@ class Workers {
 };
 
 // Sends the job's worker SIGKILL (its whole process group); a worker
-// whose pid is not known yet is killed as soon as it is.
-void cancel(Job& job);
+// whose pid is not known yet is killed as soon as it is. `reason` says why
+// (the job's message once it has ended).
+void cancel(Job& job, const std::string& reason);
 
 // The job as the page's status object. Called with job.mu held.
 std::string job_json(Job& job);

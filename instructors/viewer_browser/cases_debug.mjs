@@ -218,8 +218,9 @@ cases.debug_crash = async () => {
     await page.click('#debug-tabs button[data-tool=intersect]');
     const e = await debugCall(page, 'intersect', () => page.click('#dbg-intersect-run'));
     const text = await page.locator('#banner').textContent();
-    check(!e.ok && e.status === 500 && text.includes('planted_crash_in_debug_tool crashed: SIGSEGV while debugging'),
-          'the crash is reported with the function and the signal', `${e.status}: ${text}`);
+    check(!e.ok && e.status === 500 &&
+          /planted_crash_in_debug_tool crashed: SIGSEGV while debugging \(viewer\/worker\.cpp:\d+\)$/.test(text),
+          'the crash is reported with the function, the signal, and its file and line', `${e.status}: ${text}`);
     await page.screenshot({path: path.join(OUT, 'debug_crash.png')});
     await page.fill('input[name=seed]', '0');
     await page.dispatchEvent('input[name=seed]', 'change');

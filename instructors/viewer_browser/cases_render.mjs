@@ -254,12 +254,28 @@ cases.crash_reported = async () => {
     const end = await renderEnd(page, await lastJob(page));
     const text = await page.locator('#banner').textContent();
     check(end.state === 'crashed', 'the render is reported as crashed', end.state);
-    check(text.includes('planted_crash_in_render crashed: SIGSEGV while rendering'),
-          'the banner names the function and the signal', text);
+    check(/^planted_crash_in_render crashed: SIGSEGV while rendering \(viewer\/worker\.cpp:\d+\)$/.test(text),
+          'the banner names the function, the signal, and the file and line (the test build has debug information)', text);
     await page.screenshot({path: path.join(OUT, 'crash_banner.png')});
+    // Every render thread crashing at once (-t 4, a null write in every
+    // pixel), and a stack overflow (endless recursion): one report each.
+    await page.fill('input[name=threads]', '4');
+    for (const [seed, fn] of [[16, 'planted_crash_in_render'], [17, 'planted_endless_recursion']]) {
+      const last = await lastJob(page);
+      await page.fill('input[name=seed]', String(seed));
+      await page.dispatchEvent('input[name=seed]', 'change');
+      const again = await waitEvent(page, `e.type === 'render' && e.job > ${last}`);
+      const crashed = await renderEnd(page, again.job);
+      const shown = await page.locator('#banner').textContent();
+      check(crashed.state === 'crashed' && new RegExp(`^${fn} crashed: SIGSEGV while rendering \\(viewer/worker\\.cpp:\\d+\\)$`).test(shown),
+            `--seed ${seed}: one report naming ${fn}, its file and line`, `${crashed.state}: ${JSON.stringify(shown)}`);
+    }
+    await page.screenshot({path: path.join(OUT, 'crash_threads_banner.png')});
+    await page.fill('input[name=threads]', '2');
+    const beforeNext = await lastJob(page);
     await page.fill('input[name=seed]', '0');
     await page.dispatchEvent('input[name=seed]', 'change');
-    const next = await waitEvent(page, `e.type === 'render' && e.job > ${end.job}`);
+    const next = await waitEvent(page, `e.type === 'render' && e.job > ${beforeNext}`);
     const nextEnd = await renderEnd(page, next.job);
     check(nextEnd.state === 'done', 'the server keeps serving: the next render finishes', nextEnd.state);
     check(!(await page.locator('#banner').isVisible()), 'the banner is gone with the crash');

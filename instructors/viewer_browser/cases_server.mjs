@@ -4,7 +4,7 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import {args, check, rawRequest, startViewer, stopViewer, tryStartViewer, SCENE, memoryMB, resetPeakMemory, postJson,
-        jobEnd} from './harness.mjs';
+        jobEnd, workersOf} from './harness.mjs';
 
 export const cases = {};
 
@@ -76,23 +76,7 @@ cases.port_in_use = async () => {
   }
 };
 
-// The processes whose parent is `pid` and that are not zombies, with their
-// command lines.
-function liveChildren(pid) {
-  const out = [];
-  for (const d of fs.readdirSync('/proc')) {
-    if (!/^\d+$/.test(d)) continue;
-    try {
-      const stat = fs.readFileSync(`/proc/${d}/stat`, 'utf8');
-      // "pid (comm) state ppid ...": the name may hold spaces and brackets.
-      const [state, ppid] = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
-      if (Number(ppid) !== pid || state === 'Z') continue;
-      out.push({pid: Number(d), cmd: fs.readFileSync(`/proc/${d}/cmdline`, 'utf8').split('\0').join(' ')});
-    } catch (e) { /* gone meanwhile */ }
-  }
-  return out;
-}
-const renderWorkers = (v) => liveChildren(v.proc.pid).filter((c) => / --worker render /.test(c.cmd));
+const renderWorkers = (v) => workersOf(v, 'render');
 
 // Ten render requests at once (long renders, each its own seed): when all
 // are answered, one render worker is left (the last request's); Stop

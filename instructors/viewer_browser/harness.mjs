@@ -55,14 +55,29 @@ export function tryStartViewer(bin, flags, env) {
     const proc = spawn(bin, flags, {env: Object.assign({}, process.env, env || {}), stdio: ['ignore', 'pipe', 'pipe']});
     children.push(proc);
     let out = '', err = '', started = false;
-    proc.stderr.on('data', (d) => { err += d; });
+    const waiting = [];  // [regex, resolve] of waitStderr
+    proc.stderr.on('data', (d) => {
+      err += d;
+      for (let i = waiting.length - 1; i >= 0; --i) {
+        const m = waiting[i][0].exec(err);
+        if (m) {
+          waiting[i][1](m);
+          waiting.splice(i, 1);
+        }
+      }
+    });
+    // Resolves with the match once the viewer's stderr matches `re`.
+    const waitStderr = (re) => new Promise((resolve) => {
+      const m = re.exec(err);
+      if (m) resolve(m); else waiting.push([re, resolve]);
+    });
     proc.stdout.on('data', (d) => {
       out += d;
       const line = out.split('\n')[0];
       if (out.includes('\n') && !started) {
         started = true;
         const m = /^(http:\/\/127\.0\.0\.1:(\d+))\/\?token=([0-9a-f]{32})$/.exec(line);
-        if (m) resolve({v: {url: line, base: m[1], port: Number(m[2]), token: m[3], proc, stderr: () => err}});
+        if (m) resolve({v: {url: line, base: m[1], port: Number(m[2]), token: m[3], proc, stderr: () => err, waitStderr}});
         else reject(new Error(`unexpected first line: ${line}`));
       }
     });
@@ -71,8 +86,8 @@ export function tryStartViewer(bin, flags, env) {
   });
 }
 
-// Starts a viewer; resolves with {url, base, port, token, proc, stderr}
-// once it printed its URL.
+// Starts a viewer; resolves with {url, base, port, token, proc, stderr,
+// waitStderr} once it printed its URL.
 export async function startViewer(bin, flags, env) {
   const r = await tryStartViewer(bin, flags, env);
   if (!r.v) throw new Error(`viewer exited (${r.code}) before printing its URL: ${r.stderr}`);
@@ -244,3 +259,22 @@ export async function jobEnd(v, job) {
   }
   return st;
 }
+
+// The processes whose parent is `pid` and that are not zombies, with their
+// command lines.
+export function liveChildren(pid) {
+  const out = [];
+  for (const d of fs.readdirSync('/proc')) {
+    if (!/^\d+$/.test(d)) continue;
+    try {
+      const stat = fs.readFileSync(`/proc/${d}/stat`, 'utf8');
+      // "pid (comm) state ppid ...": the name may hold spaces and brackets.
+      const [state, ppid] = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+      if (Number(ppid) !== pid || state === 'Z') continue;
+      out.push({pid: Number(d), cmd: fs.readFileSync(`/proc/${d}/cmdline`, 'utf8').split('\0').join(' ')});
+    } catch (e) { /* gone meanwhile */ }
+  }
+  return out;
+}
+// The viewer's live workers of a kind ("render" covers normals too, "debug", "bvh").
+export const workersOf = (v, kind) => liveChildren(v.proc.pid).filter((c) => c.cmd.includes(` --worker ${kind} `));

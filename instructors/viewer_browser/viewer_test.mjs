@@ -17,9 +17,10 @@ import {cases as bvh} from './cases_bvh.mjs';
 import {cases as debug} from './cases_debug.mjs';
 import {cases as server} from './cases_server.mjs';
 import {cases as access} from './cases_access.mjs';
+import {cases as stuck} from './cases_stuck.mjs';
 import path from 'node:path';
 
-const cases = Object.assign({}, render, bvh, debug, server, access);
+const cases = Object.assign({}, render, bvh, debug, server, access, stuck);
 
 // Not a test: the server's memory (resident, in MB) with three 8192x4096
 // part 1 renders in a row, and its peak while six clients download the

@@ -53,12 +53,22 @@ viewer.waitStatus = waitStatus;
 
 function banner(text, kind) {
   const b = $('banner');
+  const same = b.textContent === (text || '') && b.className === (kind || '') && b.hidden === !text;
   b.hidden = !text;
   b.textContent = text || '';
   b.className = kind || '';
-  if (text) viewer.events.push({type: 'banner', kind, text});
+  if (text && !same) viewer.events.push({type: 'banner', kind, text});
 }
 viewer.banner = banner;
+
+// A job that has made no progress for a while (the worker's report): how
+// long, and the function of the build's it is in. `ago`: seconds since
+// the report arrived.
+function stallText(stalled, what, ago) {
+  const where = stalled.function ? `${stalled.function}${stalled.where ? ` (${stalled.where})` : ''}` : 'the build\'s code';
+  return `${what} for ${Math.floor(stalled.seconds + ago)} s: an infinite loop in ${where}?`;
+}
+viewer.stallText = stallText;
 
 // "Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp)" lines,
 // as one line per part.
@@ -232,6 +242,8 @@ async function poll(job) {
     }
     if (viewer.job !== job) return;
     viewer.status = st;
+    viewer.statusAt = performance.now();
+    if (st.stalled) viewer.events.push({type: 'stall', job, stalled: st.stalled});
     if (st.frames > after && st.frame) {
       after = st.frames;
       try {
@@ -259,24 +271,38 @@ async function poll(job) {
 
 function showJobMessages(st) {
   const lines = [];
+  if (st.state === 'running' && st.stalled) {
+    lines.push(stallText(st.stalled, 'no pixel finished', (performance.now() - viewer.statusAt) / 1000));
+  }
   if (st.state === 'crashed' || st.state === 'failed') lines.push(st.message);
   if (st.todo.length) lines.push(todoText(st.todo));
   if (lines.length) banner(lines.join('\n'), st.state === 'crashed' || st.state === 'failed' ? 'error' : 'todo');
+  else if (viewer.stallShown) banner('');  // moving again
+  viewer.stallShown = st.state === 'running' && !!st.stalled;
 }
 
 function fmt(x, d = 2) { return Number(x).toFixed(d); }
 
+// The render's figures and the time since it started (counting on between
+// two answers of the server while it runs).
 function hud(st) {
   const f = st.frame;
-  let text = `${st.state}`;
+  const wall = st.wall + (st.state === 'running' && viewer.statusAt ? (performance.now() - viewer.statusAt) / 1000 : 0);
+  let text = `${st.state} · ${fmt(wall, 1)} s`;
   if (f) {
     const rays = f.rays;
     text = `samples ${f.samples}/${st.target} (pass ${f.pass + 1}) · ${rays.toLocaleString()} rays · ` +
            `${fmt(f.seconds > 0 ? rays / f.seconds / 1e6 : 0)} Mrays/s · ` +
-           `${fmt(rays ? f.tests / rays : 0)} tests/ray · ${fmt(st.wall, 1)} s · ${st.state}`;
+           `${fmt(rays ? f.tests / rays : 0)} tests/ray · ${fmt(wall, 1)} s · ${st.state}`;
   }
   $('hud').textContent = text;
 }
+setInterval(() => {
+  const st = viewer.status;
+  if (!st || st.state !== 'running' || st.job !== viewer.job) return;
+  hud(st);
+  if (st.stalled) showJobMessages(st);
+}, 1000);
 
 async function drawOverlay() {
   octx.clearRect(0, 0, overlayCanvas.width, overlayCanvas.height);

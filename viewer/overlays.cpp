@@ -79,6 +79,13 @@ Overlay frame_overlay(const Frame& f, const std::string& kind, int target) {
   return o;
 }
 
+std::string difference_pending(const Frame& f, const RenderOptions& opts, const ViewerCase& vc) {
+  const int want = vc.opts.samples_per_pixel;
+  if (opts.cell_set || f.samples >= want || image_key(opts) != image_key(vc.opts)) return "";
+  return "difference shown when the render reaches " + std::to_string(want) + " samples (now " +
+         std::to_string(f.samples) + ")";
+}
+
 Difference difference_overlay(const Frame& f, const RenderOptions& opts, const ViewerCase& vc,
                               const std::string& reference_dir) {
   const std::string& name = vc.c.name;

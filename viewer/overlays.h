@@ -34,6 +34,12 @@ std::vector<uint8_t> frame_png(const Frame& f);
 size_t frame_pfm_size(const Frame& f);
 void frame_pfm_bytes(const Frame& f, size_t offset, size_t n, char* out);
 
+// When frame `f` is an earlier pass of a render of case `vc`'s settings
+// (`opts`, the render's, has the case's sample count; the frame fewer):
+// "difference shown when the render reaches N samples (now n)". Empty
+// otherwise: the frame is the case's, or the render is not.
+std::string difference_pending(const Frame& f, const RenderOptions& opts, const ViewerCase& vc);
+
 // The grader's comparison of frame `f` of a job run with `opts` against
 // case `vc`'s reference in `reference_dir`: |z| per pixel (black to white
 // at the threshold, red beyond), scale the threshold, and the verdict.

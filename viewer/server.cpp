@@ -353,6 +353,16 @@ void add_render_routes(httplib::Server& svr, App& app) {
     const std::string name = req.get_param_value("case");
     const ViewerCase* vc = find_case(app.cases, name);
     if (!vc) throw BadRequest("case: no grading case named '" + name + "'", 404);
+    // An earlier pass of the case's render: not an error, the difference
+    // comes with the last pass (202 and when); a render stopped before it
+    // never gets there.
+    if (const std::string pending = difference_pending(*f, job->opts, *vc); !pending.empty()) {
+      std::lock_guard<std::mutex> lock(job->mu);
+      if (job->state != "running")
+        throw BadRequest("the render " + job->state + " at " + std::to_string(f->samples) + " samples: render again to " +
+                             "compare it with case " + name, 409);
+      return send_json(res, "{\"pending\":" + json_quote(pending) + "}", 202);
+    }
     std::unique_lock<std::mutex> one(app.converting);
     Difference d = difference_overlay(*f, job->opts, *vc, app.cfg.source_dir + "/reference_images");
     one.unlock();

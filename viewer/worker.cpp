@@ -8,10 +8,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "stages/part2_bvh/bvh.h"
@@ -83,7 +85,8 @@ void write_message(const std::string& head, const std::vector<uint8_t>& payload)
 // crashes at once), and recurses until the stack overflows with --seed 17;
 // =hang loops for ever in the middle of a render with
 // --seed 15 (and in every Debug mode call with --seed 15); =todo prints a
-// stub's TODO line.
+// stub's TODO line; =gate starts each pass after the first only once the
+// file $PT_VIEWER_GATE<pass> exists.
 std::string planted() {
   const char* v = std::getenv("PT_VIEWER_PLANT");
   return v ? v : "";
@@ -178,6 +181,12 @@ int run_render(const RenderOptions& base) {
     write_message("FRAME " + frame_json(o, pass, r, elapsed, payload.size()) + "\n", payload);
     ++pass;
     if (n >= target) break;
+#ifdef PT_VIEWER_PLANTS
+    // The next pass waits until the test lets it (a file <gate><pass> exists).
+    if (planted() == "gate")
+      while (!std::filesystem::exists(std::getenv("PT_VIEWER_GATE") + std::to_string(pass)))
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+#endif
   }
   write_message("DONE\n", {});
   return 0;

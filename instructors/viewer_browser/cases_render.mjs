@@ -3,6 +3,7 @@
 // normals, the difference with a case), the camera file round trip, the
 // TODO banner and a crash reported, and the README's screenshots.
 import fs from 'node:fs';
+import os from 'node:os';
 import path from 'node:path';
 import {args, OUT, check, runCli, withViewerPage, waitEvent, lastJob, renderEnd, canvasPixels, pngPixels, fetchBytes, sameArrays, SCENE, FLAGS} from './harness.mjs';
 
@@ -360,3 +361,36 @@ cases.screenshots = async () => {
 // Debug mode: the path inspector's total is the command line's pixel at
 // -s 1 (sample 0 is the pixel), its 3D path starts at the camera; the
 // intersection tester's t and normal for typed-in rays against known
+
+// The difference overlay while the case's render is still at an earlier
+// pass (the test build holds each pass until the test lets it go on): the
+// page says when the difference comes, with no error; then the last pass
+// is compared and matches. Waits on the page's events only.
+cases.diff_pending = async () => {
+  const gate = fs.mkdtempSync(path.join(os.tmpdir(), 'pt-viewer-gate-'));
+  const flags = ['-r', '64', '48', '-s', '2', '-t', '2', SCENE()];
+  try {
+    await withViewerPage(flags, async (page, v, errors) => {
+      await page.selectOption('#case', 'p3_spheres_light');
+      const before = await lastJob(page);
+      await page.click('#btn-apply-case');
+      const caseRender = await waitEvent(page, `e.type === 'render' && e.job > ${before} && e.settings.samples === 16`);
+      const pending = await waitEvent(page, `e.type === 'diff_pending' && e.job === ${caseRender.job}`);
+      check(pending.message === 'difference shown when the render reaches 16 samples (now 1)',
+            'after the first pass of the case\'s render the page says when the difference comes', JSON.stringify(pending));
+      const note = await page.locator('#overlay-note').textContent();
+      check(note === `p3_spheres_light: ${pending.message}`, 'the overlay\'s note says it', note);
+      await page.screenshot({path: path.join(OUT, 'diff_pending.png')});
+      for (let k = 1; k <= 4; ++k) fs.writeFileSync(path.join(gate, `pass${k}`), '');
+      const diff = await waitEvent(page, `e.type === 'diff' && e.job === ${caseRender.job}`);
+      check(diff.summary && diff.summary.startsWith('matches the reference'), 'at 16 samples the render is compared: it matches',
+            JSON.stringify(diff));
+      const wrong = await page.evaluate(() => window.viewer.events.filter((e) => e.type === 'diff' && e.error));
+      check(wrong.length === 0, 'no difference request was answered with an error', JSON.stringify(wrong));
+      check(errors.length === 0, 'no errors in the page (no failed request either)', errors.join('; '));
+      await page.screenshot({path: path.join(OUT, 'diff_done.png')});
+    }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'gate', PT_VIEWER_GATE: path.join(gate, 'pass')}});
+  } finally {
+    fs.rmSync(gate, {recursive: true, force: true});
+  }
+};

@@ -16,6 +16,7 @@
 #include "viewer/debugger/debugger.h"
 #include "common/json.h"
 #include "viewer/file_access.h"
+#include "viewer/overlays.h"
 #include "pathtracer/render_job.h"
 #include "viewer/worker.h"
 
@@ -309,4 +310,35 @@ TEST_CASE("camera files are files of the course's format; nothing of another fil
   CHECK(why.substr(why.find(':')) == missing);
   CHECK(camera(allowed.path / "nothing.txt").empty());
   CHECK(why == (allowed.path / "nothing.txt").string() + ": no such file");
+}
+
+TEST_CASE("an earlier pass of a case's render is not compared yet: the difference comes at its sample count", "[viewer]") {
+  viewer::ViewerCase vc;
+  vc.c.name = "p3_spheres_light";
+  vc.opts.part = 3;
+  vc.opts.samples_per_pixel = 16;
+  vc.opts.light_samples = 4;
+  vc.opts.width = 128;
+  vc.opts.height = 96;
+  vc.opts.scene_path = "/scenes/CBspheres_lambertian.dae";
+  RenderOptions render = vc.opts;
+  render.threads = 2;
+  render.seed = 9;  // threads and seed do not make another image
+  viewer::Frame f;
+  f.width = 128;
+  f.height = 96;
+  f.samples = 4;
+  CHECK(viewer::difference_pending(f, render, vc) == "difference shown when the render reaches 16 samples (now 4)");
+  f.samples = 16;
+  CHECK(viewer::difference_pending(f, render, vc).empty());  // the last pass: compared
+  f.samples = 4;
+  RenderOptions other = render;
+  other.light_samples = 8;
+  CHECK(viewer::difference_pending(f, other, vc).empty());  // not the case's render: refused as before
+  other = render;
+  other.samples_per_pixel = 4;
+  CHECK(viewer::difference_pending(f, other, vc).empty());
+  other = render;
+  other.cell_set = true;
+  CHECK(viewer::difference_pending(f, other, vc).empty());
 }

@@ -210,12 +210,21 @@ function drawFrame(target, frame, cell) {
 async function startRender() {
   const req = request();
   banner('');
+  // The running render's page work stops here (its last answers are not
+  // drawn over the new render's, nor compared with a case).
+  const previous = viewer.job;
+  viewer.job = null;
   let st;
   try {
     st = await api('/api/render', req);
   } catch (e) {
     banner(e.message, 'error');
     viewer.events.push({type: 'refused', status: e.status, message: e.message});
+    // Refused: the render before goes on being shown.
+    if (previous && viewer.job === null) {
+      viewer.job = previous;
+      if (viewer.status && viewer.status.job === previous && viewer.status.state === 'running') poll(previous);
+    }
     return null;
   }
   viewer.job = st.job;
@@ -250,7 +259,7 @@ async function poll(job) {
         const f = await fetchImage(job, 'render');
         if (viewer.job !== job) return;
         drawFrame(ctx, f, viewer.renderCell);
-        if (viewer.overlay === 'rate' || viewer.overlay === 'tests') await drawOverlay();
+        if (['rate', 'tests', 'diff'].includes(viewer.overlay)) await drawOverlay(job);
         viewer.events.push({type: 'frame', job, pass: f.pass, samples: st.frame.samples,
                             elapsed: st.frame.elapsed, seconds: st.frame.seconds});
       } catch (e) { /* a newer job replaced it */ }
@@ -259,7 +268,8 @@ async function poll(job) {
     showJobMessages(st);
     if (st.state !== 'running') {
       $('btn-stop').textContent = 'Restart';
-      if (viewer.overlay === 'diff') await drawOverlay();
+      // A render stopped between passes: say so (its last pass was compared).
+      if (viewer.overlay === 'diff' && st.state !== 'done') await drawOverlay(job);
       viewer.events.push({type: 'end', job, state: st.state, message: st.message, samples: st.frame && st.frame.samples,
                           passes: st.passes});
       document.body.dataset.render = st.state;
@@ -304,12 +314,13 @@ setInterval(() => {
   if (st.stalled) showJobMessages(st);
 }, 1000);
 
-async function drawOverlay() {
+// Draws the overlay over render `renderJob` (default: the current one).
+async function drawOverlay(renderJob) {
   octx.clearRect(0, 0, overlayCanvas.width, overlayCanvas.height);
   overlayCanvas.style.opacity = $('overlay-opacity').value / 100;
   $('overlay-note').textContent = '';
   if (!viewer.overlay) return;
-  if (viewer.overlay === 'diff') return drawDiff();
+  if (viewer.overlay === 'diff') return drawDiff(renderJob || viewer.job);
   const job = viewer.overlay === 'normals' ? viewer.normalsJob : viewer.job;
   if (!job) return;
   // Only images that exist: a finished normals job, a render with a frame.
@@ -331,22 +342,32 @@ async function drawOverlay() {
   } catch (e) { /* no frame yet */ }
 }
 
-// The grader's own comparison of the finished render with a case's
-// reference (its committed mean and variance): |z| per pixel.
-async function drawDiff() {
+// The grader's own comparison of render `job`'s last pass with a case's
+// reference (its committed mean and variance): |z| per pixel. An earlier
+// pass of the case's render is answered with when the difference comes
+// (202); each pass asks again.
+async function drawDiff(job) {
   const name = $('case').value;
-  if (!name || !viewer.job) {
+  if (!name || !job) {
     $('overlay-note').textContent = 'Pick a grading case (its settings must be the render\'s).';
     return;
   }
-  if (!viewer.status || viewer.status.state !== 'done') {
-    $('overlay-note').textContent = 'The difference is drawn when the render is done.';
+  const st = viewer.status;
+  if (!st || st.job !== job || !st.frame) {
+    $('overlay-note').textContent = 'The difference is drawn once the render has a pass.';
     return;
   }
   try {
-    const res = await api(`/api/diff?job=${viewer.job}&case=${encodeURIComponent(name)}`);
+    const res = await api(`/api/diff?job=${job}&case=${encodeURIComponent(name)}`);
+    if (job !== viewer.job) return;  // a newer render replaced it meanwhile
+    if (!(res instanceof Response)) {
+      $('overlay-note').textContent = `${name}: ${res.pending}`;
+      viewer.events.push({type: 'diff_pending', job, case: name, message: res.pending});
+      return;
+    }
     const w = Number(res.headers.get('X-Width')), h = Number(res.headers.get('X-Height'));
     const rgb = new Uint8Array(await res.arrayBuffer());
+    if (job !== viewer.job) return;
     const img = new ImageData(w, h);
     for (let i = 0; i < w * h; ++i) {
       img.data.set([rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2], 255], 4 * i);
@@ -354,10 +375,11 @@ async function drawDiff() {
     octx.putImageData(img, 0, 0);
     const summary = res.headers.get('X-Summary');
     $('overlay-note').textContent = `${name}: ${summary} (|z| per pixel, black 0 to white at the threshold, red beyond)`;
-    viewer.events.push({type: 'diff', job: viewer.job, case: name, summary});
+    viewer.events.push({type: 'diff', job, case: name, summary});
   } catch (e) {
+    if (job !== viewer.job) return;
     $('overlay-note').textContent = e.message;
-    viewer.events.push({type: 'diff', job: viewer.job, case: name, error: e.message});
+    viewer.events.push({type: 'diff', job, case: name, error: e.message});
   }
 }
 

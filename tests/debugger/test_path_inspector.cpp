@@ -494,6 +494,43 @@ TEST_CASE("several lights, several samples each: every shadow ray is listed unde
   CHECK(skipped > 0);  // points on the lights' backing plates and above them
 }
 
+TEST_CASE("each light sample is the one the build took: an untraced sample is one the estimator skips",
+          "[debugger][part3]") {
+  // The course's view of CBspheres_lambertian at 480x360, -s 64 -m 5 (part
+  // 5): pixels where the first light sample of a bounce was skipped (below
+  // the surface). Reconstructed from the numbers drawn, it came out with
+  // the numbers swapped: cos theta 0.47, pdf 3.05, "not traced", which the
+  // reference estimator never does to a sample it could trace.
+  Scene scene = load_collada(project_scene("CBspheres_lambertian.dae"));
+  RenderOptions o = options(5, 480, 360, 64, 5, 0);
+  configure_camera(scene.camera, o);
+  const auto geometry = debug::make_geometry(scene, o);
+  int samples = 0, skipped = 0;
+  std::vector<std::pair<int, int>> pixels = {{168, 109}, {130, 123}, {155, 114}};
+  for (int y = 100; y < 130; y += 3) pixels.push_back({150, y});  // a column across the spheres
+  for (const auto& [x, y] : pixels) {
+    const debug::PathRecord rec = debug::record_path(scene, *geometry, o, x, y, 0);
+    REQUIRE(rec.ok());
+    CHECK(rec.exact);
+    for (const debug::PathStep& st : rec.steps)
+      for (const debug::LightSampleStep& l : st.light_samples) {
+        INFO("pixel (" << x << ", " << y << ") bounce " << st.bounce << ": cos theta " << l.cos_theta << ", pdf "
+                       << l.sample.pdf << ", " << l.verdict);
+        ++samples;
+        const bool can_contribute = l.sample.pdf > 0 && l.cos_theta > 0 && l.sample.distance > 2 * kRayEpsilon;
+        CHECK(l.shadow_traced == can_contribute);
+        CHECK(l.verdict != "not traced");
+        if (!l.shadow_traced) {
+          ++skipped;
+          CHECK((l.verdict == "below the surface" || l.verdict == "zero pdf"));
+          CHECK((l.contribution.x == 0 && l.contribution.y == 0 && l.contribution.z == 0));
+        }
+      }
+  }
+  CHECK(samples > 20);
+  CHECK(skipped > 0);
+}
+
 TEST_CASE("Russian-roulette draws: one per bounce that plays, the one that ends a path is >= 0.7",
           "[debugger][part4]") {
   const int w = 12, h = 9;

@@ -24,6 +24,7 @@
 #include "pathtracer/options.h"
 #include "pathtracer/render_job.h"
 #include "common/todo.h"
+#include "viewer/progressive.h"
 #include "viewer/worker_watch.h"
 
 namespace pt::viewer {
@@ -93,16 +94,39 @@ std::string planted() {
 }
 #endif
 
-std::string frame_json(const RenderOptions& o, int pass, const RenderResult& r, double elapsed, size_t bytes) {
+std::string frame_json(const RenderOptions& o, int pass, const RenderResult& r, double elapsed, uint64_t traced,
+                       uint64_t reused, size_t bytes) {
   char buf[768];
   std::snprintf(buf, sizeof buf,
                 "{\"kind\":\"render\",\"pass\":%d,\"width\":%d,\"height\":%d,\"samples\":%d,"
                 "\"rays\":%llu,\"tests\":%llu,\"nodes\":%llu,\"seconds\":%.6f,\"elapsed\":%.6f,"
-                "\"used_bvh\":%s,\"bytes\":%zu}",
+                "\"traced\":%llu,\"reused\":%llu,\"used_bvh\":%s,\"bytes\":%zu}",
                 pass, o.width, o.height, o.samples_per_pixel, (unsigned long long)r.stats.rays(),
                 (unsigned long long)r.stats.primitive_tests, (unsigned long long)r.stats.node_visits, r.seconds,
-                elapsed, r.used_bvh ? "true" : "false", bytes);
+                elapsed, (unsigned long long)traced, (unsigned long long)reused, r.used_bvh ? "true" : "false", bytes);
   return buf;
+}
+
+// A pass's frame: its image, the samples each pixel took and its tests per
+// ray, written as they are converted (no copy of the image).
+void write_frame(const std::string& head, const ImageBuffer& img, const std::vector<float>& tests,
+                 const std::vector<uint32_t>& rays) {
+  write_all(head.data(), head.size());
+  std::vector<uint8_t> chunk;
+  chunk.reserve(20 << 12);
+  for (size_t i = 0; i < img.pixels.size(); ++i) {
+    uint8_t p[20];
+    const float per_ray = rays[i] ? tests[i] / float(rays[i]) : 0.0f;
+    std::memcpy(p, &img.pixels[i], 12);
+    std::memcpy(p + 12, &img.samples[i], 4);
+    std::memcpy(p + 16, &per_ray, 4);
+    chunk.insert(chunk.end(), p, p + 20);
+    if (chunk.size() >= (20 << 12)) {
+      write_all(chunk.data(), chunk.size());
+      chunk.clear();
+    }
+  }
+  if (!chunk.empty()) write_all(chunk.data(), chunk.size());
 }
 
 Scene load_scene(const RenderOptions& o) {
@@ -118,76 +142,69 @@ Scene load_scene(const RenderOptions& o) {
   return scene;
 }
 
-// The progressive render: passes at 1, 2, 4, ... samples, then -s. Each
-// pass is the command line's render at that sample count (render_scene with
-// the same options and seed), so the last one is exactly its image.
+// The progressive render (progressive.h): passes of 1, 2, 4, ... samples,
+// then -s, each the command line's render at its count, each pass reusing
+// the samples of the one before; a frame after each.
 int run_render(const RenderOptions& base) {
   const Scene scene = load_scene(base);
-  const int target = base.samples_per_pixel;
   const int w = base.width, h = base.height;
   const auto t0 = std::chrono::steady_clock::now();
-  // Per pixel: intersection tests per ray, from the render thread's counters.
-  std::vector<float> tests_per_ray(size_t(w) * h, 0.0f);
+  // Per pixel, the intersection tests and rays of the samples in the
+  // image shown: pass 1's own, then those of every jittered sample so far.
+  std::vector<float> tests(size_t(w) * h, 0.0f);
+  std::vector<uint32_t> rays(size_t(w) * h, 0);
   struct Last {
     int pass = -1;
     RayStats stats;
   };
-  int pass = 0;
-  RenderCache cache;  // the BVH is built by the first pass and reused
   std::atomic<uint64_t> pixels_done{0};
   const StallWatch watch(pixels_done, kStallSeconds);
-  for (int n = next_pass_samples(0, target);; n = next_pass_samples(n, target)) {
-    RenderOptions o = base;
-    o.samples_per_pixel = n;
-    o.progress = false;
-    std::fill(tests_per_ray.begin(), tests_per_ray.end(), 0.0f);
-    const auto after_pixel = [&](int x, int y) {
-      // The render loop zeroes each thread's counters when a render starts.
-      thread_local Last last;
-      if (last.pass != pass) last = Last{pass, RayStats{}};
-      const RayStats& now = thread_ray_stats();
-      const uint64_t rays = now.rays() - last.stats.rays();
-      const uint64_t tests = now.primitive_tests - last.stats.primitive_tests;
-      tests_per_ray[size_t(y) * w + x] = rays ? float(double(tests) / double(rays)) : 0.0f;
-      last.stats = now;
+  PassHooks hooks;
+  hooks.before_pixel = [](int, int, int) { prepare_thread_for_faults(); };
+  hooks.after_pixel = [&](int pass, int x, int y) {
+    // The render loop zeroes each thread's counters when a render starts.
+    thread_local Last last;
+    if (last.pass != pass) last = Last{pass, RayStats{}};
+    const RayStats& now = thread_ray_stats();
+    const size_t i = size_t(y) * w + x;
+    rays[i] += uint32_t(now.rays() - last.stats.rays());
+    tests[i] += float(now.primitive_tests - last.stats.primitive_tests);
+    last.stats = now;
 #ifdef PT_VIEWER_PLANTS
-      if (o.seed == 13 && x == w / 2 && y == h / 2 && planted() == "crash") planted_crash_in_render(nullptr);
-      if (o.seed == 14 && x == w / 2 && y == h / 2 && planted() == "crash")
-        throw std::runtime_error("planted failure: a part threw an exception");
-      if (o.seed == 15 && x == w / 2 && y == h / 2 && planted() == "hang") {
-        volatile int spin = 1;
-        planted_infinite_loop_in_render(&spin);
-      }
-      if (o.seed == 16 && planted() == "crash") planted_crash_in_render(nullptr);
-      if (o.seed == 17 && x == w / 2 && y == h / 2 && planted() == "crash") {
-        volatile int depth = 0;
-        planted_endless_recursion(&depth);
-      }
-#endif
-      ++pixels_done;
-    };
-    RenderHooks hooks;
-    hooks.before_pixel = [](int, int) { prepare_thread_for_faults(); };
-    hooks.after_pixel = after_pixel;
-    const RenderResult r = render_scene(scene, o, hooks, &cache);
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::vector<uint8_t> payload(size_t(w) * h * 20);
-    for (size_t i = 0; i < size_t(w) * h; ++i) {
-      uint8_t* p = &payload[i * 20];
-      std::memcpy(p, &r.image.pixels[i], 12);
-      std::memcpy(p + 12, &r.image.samples[i], 4);
-      std::memcpy(p + 16, &tests_per_ray[i], 4);
+    const uint64_t seed = base.seed;
+    if (seed == 13 && x == w / 2 && y == h / 2 && planted() == "crash") planted_crash_in_render(nullptr);
+    if (seed == 14 && x == w / 2 && y == h / 2 && planted() == "crash")
+      throw std::runtime_error("planted failure: a part threw an exception");
+    if (seed == 15 && x == w / 2 && y == h / 2 && planted() == "hang") {
+      volatile int spin = 1;
+      planted_infinite_loop_in_render(&spin);
     }
-    write_message("FRAME " + frame_json(o, pass, r, elapsed, payload.size()) + "\n", payload);
-    ++pass;
-    if (n >= target) break;
+    if (seed == 16 && planted() == "crash") planted_crash_in_render(nullptr);
+    if (seed == 17 && x == w / 2 && y == h / 2 && planted() == "crash") {
+      volatile int depth = 0;
+      planted_endless_recursion(&depth);
+    }
+#endif
+    ++pixels_done;
+  };
+  hooks.pass_done = [&](int pass, const RenderOptions& o, const RenderResult& r, uint64_t traced, uint64_t reused) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const size_t bytes = size_t(w) * h * 20;
+    write_frame("FRAME " + frame_json(o, pass, r, elapsed, traced, reused, bytes) + "\n", r.image, tests, rays);
+    // From the second pass on, the maps add up the jittered samples only.
+    if (pass == 0) {
+      std::fill(tests.begin(), tests.end(), 0.0f);
+      std::fill(rays.begin(), rays.end(), 0u);
+    }
 #ifdef PT_VIEWER_PLANTS
     // The next pass waits until the test lets it (a file <gate><pass> exists).
-    if (planted() == "gate")
-      while (!std::filesystem::exists(std::getenv("PT_VIEWER_GATE") + std::to_string(pass)))
+    if (planted() == "gate" && o.samples_per_pixel < base.samples_per_pixel)
+      while (!std::filesystem::exists(std::getenv("PT_VIEWER_GATE") + std::to_string(pass + 1)))
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
 #endif
-  }
+  };
+  prepare_thread_for_faults();
+  render_progressive(scene, base, hooks);
   write_message("DONE\n", {});
   return 0;
 }
@@ -314,7 +331,7 @@ int worker_main(int argc, char** argv) {
       return *code;
     }
 #ifdef PT_VIEWER_PLANTS
-    if (planted() == "todo") todo_once("Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp)");
+    if (planted() == "todo") todo_once("Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp); one sample through the pixel centre, whatever -s");
 #endif
     if (job == "render") return run_render(opts);
     if (job == "bvh") return run_bvh(opts);

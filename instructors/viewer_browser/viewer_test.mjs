@@ -11,6 +11,7 @@
 // `--frames N` of them, default 120; `late` is the share of frames over 20 ms).
 // Every wait is on an event of the page or a process, never a fixed delay.
 import {args, OUT, summary, withViewerPage, waitEvent, lastJob, renderEnd, SCENE, startViewer, stopViewer, postJson, jobEnd,
+        runCli,
         rawRequest, memoryMB, resetPeakMemory} from './harness.mjs';
 import {cases as render} from './cases_render.mjs';
 import {cases as bvh} from './cases_bvh.mjs';
@@ -18,6 +19,7 @@ import {cases as debug} from './cases_debug.mjs';
 import {cases as server} from './cases_server.mjs';
 import {cases as access} from './cases_access.mjs';
 import {cases as stuck} from './cases_stuck.mjs';
+import fs from 'node:fs';
 import path from 'node:path';
 
 const cases = Object.assign({}, render, bvh, debug, server, access, stuck);
@@ -50,9 +52,65 @@ async function measureMemory() {
   console.log(JSON.stringify(results, null, 2));
 }
 
+// Not a test: the progressive render's whole time in the viewer (from the
+// request to the last pass) against the command line's render at the same
+// settings, in turns, --runs N times each (default 3); --compare BIN times
+// another viewer build too. The settings: --flags "..." (default CBbunny
+// 480x360 -s 64 -l 4 -m 5 -t 2).
+async function measureProgressive() {
+  const flags = args.flags ? String(args.flags).split(/\s+/)
+                           : ['-r', '480', '360', '-s', '64', '-l', '4', '-m', '5', '-t', '2', path.join(args.scenes, 'CBbunny.dae')];
+  const runs = Number(args.runs || 3);
+  const viewers = [['viewer', args.viewer]].concat(args.compare ? [['compare', args.compare]] : []);
+  const results = {flags: flags.join(' '), runs: []};
+  const seconds = (t0) => Number(process.hrtime.bigint() - t0) / 1e9;
+  // CPU seconds of a process and its reaped children (/proc/PID/stat:
+  // utime, stime, cutime, cstime, in ticks of 1/100 s), which the load of
+  // other programs on the machine changes far less than wall time.
+  const cpu = (pid) => {
+    const f = fs.readFileSync(`/proc/${pid}/stat`, 'utf8');
+    const v = f.slice(f.lastIndexOf(')') + 2).split(' ').map(Number);
+    return (v[11] + v[12] + v[13] + v[14]) / 100;
+  };
+  for (let i = 0; i < runs; ++i) {
+    const run = {};
+    for (const [name, bin] of viewers) {
+      const v = await startViewer(bin, flags);
+      try {
+        const t0 = process.hrtime.bigint(), c0 = cpu(v.proc.pid);
+        const job = (await postJson(v, '/api/render', {})).json.job;
+        const end = await jobEnd(v, job);
+        run[`${name}_s`] = seconds(t0);
+        run[`${name}_cpu_s`] = cpu(v.proc.pid) - c0;
+        if (end.state !== 'done') throw new Error(`${name}: ${end.state} ${end.message}`);
+        run[`${name}_passes`] = end.passes;
+      } finally {
+        await stopViewer(v);
+      }
+    }
+    const t0 = process.hrtime.bigint(), c0 = cpu(process.pid);
+    runCli([...flags.slice(0, -1), '--no-progress', '-f', path.join(OUT, 'bench.png'), flags[flags.length - 1]]);
+    run.cli_s = seconds(t0);
+    run.cli_cpu_s = cpu(process.pid) - c0;
+    run.ratio = run.viewer_s / run.cli_s;
+    run.cpu_ratio = run.viewer_cpu_s / run.cli_cpu_s;
+    if (args.compare) {
+      run.compare_ratio = run.compare_s / run.cli_s;
+      run.compare_cpu_ratio = run.compare_cpu_s / run.cli_cpu_s;
+    }
+    results.runs.push(run);
+    console.log(JSON.stringify(run));
+  }
+  const median = (xs) => xs.slice().sort((a, c) => a - c)[Math.floor(xs.length / 2)];
+  for (const key of ['ratio', 'cpu_ratio'].concat(args.compare ? ['compare_ratio', 'compare_cpu_ratio'] : []))
+    results[`median_${key}`] = median(results.runs.map((r) => r[key]));
+  console.log(JSON.stringify(results, null, 2));
+}
+
 // Not a test: timings for the report.
 async function measure() {
   if (args.measure === 'memory') return measureMemory();
+  if (args.measure === 'progressive') return measureProgressive();
   const results = {};
   if (args.measure !== 'bvh') {
     const flags = ['-r', '480', '360', '-t', '2', '-s', '64', '-l', '4', '-m', '5', SCENE()];

@@ -5,6 +5,8 @@
 
 #include <unistd.h>
 
+#include <cstring>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -18,7 +20,7 @@
 #include "viewer/file_access.h"
 #include "viewer/overlays.h"
 #include "pathtracer/render_job.h"
-#include "viewer/worker.h"
+#include "viewer/progressive.h"
 
 namespace fs = std::filesystem;
 using namespace pt;
@@ -118,19 +120,84 @@ TEST_CASE("the page opens only files of the right kind inside the allowed folder
   CHECK_THROWS(files.allow_folder((allowed.path / "scene.dae").string()));
 }
 
-TEST_CASE("the progressive render's passes take 1, 2, 4, ... samples and end at -s", "[viewer]") {
-  const auto schedule = [](int target) {
-    std::vector<int> s;
-    for (int n = viewer::next_pass_samples(0, target);; n = viewer::next_pass_samples(n, target)) {
-      s.push_back(n);
-      if (n >= target) break;
-    }
-    return s;
+TEST_CASE("the progressive render's passes take 1, 2, 4, ... samples and end at -s, as far as samples can be kept",
+          "[viewer]") {
+  using V = std::vector<int>;
+  const long long all = 1LL << 40;
+  CHECK(viewer::pass_schedule(1, all) == V{1});
+  CHECK(viewer::pass_schedule(16, all) == V{1, 2, 4, 8, 16});
+  CHECK(viewer::pass_schedule(5, all) == V{1, 2, 4, 5});
+  CHECK(viewer::pass_schedule(64, 10) == V{1, 2, 4, 8, 64});
+  CHECK(viewer::pass_schedule(64, 1) == V{1, 64});
+  CHECK(viewer::pass_schedule(1 << 20, all).size() == 21);
+  // 16 bytes a kept sample: 480x360 keeps 194 a pixel, 8192x4096 one (not two).
+  CHECK(viewer::samples_kept(480 * 360) == 194);
+  CHECK(viewer::samples_kept(8192LL * 4096) == 1);
+  CHECK(viewer::pass_schedule(64, viewer::samples_kept(8192LL * 4096)) == V{1, 64});
+}
+
+// Every pass of the viewer's progressive render against the command line's
+// render_scene at that pass's sample count: bit for bit, and every sample
+// of a pass but the new ones taken from the pass before.
+void check_passes(const std::string& scene_name, RenderOptions o, const std::string& what) {
+  Scene scene = load_collada(std::string(PT_PROJECT_SCENES_DIR) + "/" + scene_name);
+  configure_camera(scene.camera, o);
+  const long long pixels = o.cell_set ? (long long)o.cell_w * o.cell_h : (long long)o.width * o.height;
+  std::vector<int> counts;
+  long long before = 0, total_traced = 0;
+  viewer::PassHooks hooks;
+  hooks.pass_done = [&](int pass, const RenderOptions& po, const RenderResult& r, uint64_t traced, uint64_t reused) {
+    INFO(what << ": pass " << pass << " at " << po.samples_per_pixel << " samples");
+    counts.push_back(po.samples_per_pixel);
+    RenderOptions cli = o;
+    cli.samples_per_pixel = po.samples_per_pixel;
+    const RenderResult expected = render_scene(scene, cli);
+    CHECK(std::memcmp(r.image.pixels.data(), expected.image.pixels.data(), r.image.pixels.size() * sizeof(Color)) == 0);
+    CHECK(r.image.samples == expected.image.samples);
+    long long taken = 0;
+    for (uint32_t n : r.image.samples) taken += n;
+    // Reused: every sample the pass before took (pass 1's centre rays are
+    // not jittered: none); traced: the rest.
+    CHECK((long long)reused == (pass <= 1 ? 0 : before));
+    CHECK((long long)(traced + reused) == taken);
+    before = taken;
+    total_traced += (long long)traced;
   };
-  CHECK(schedule(1) == std::vector<int>{1});
-  CHECK(schedule(16) == std::vector<int>{1, 2, 4, 8, 16});
-  CHECK(schedule(5) == std::vector<int>{1, 2, 4, 5});
-  CHECK(schedule(1 << 20).size() == 21);
+  viewer::render_progressive(scene, o, hooks);
+  CHECK(counts == viewer::pass_schedule(o.samples_per_pixel, viewer::samples_kept(pixels)));
+  // All passes together trace the last pass's samples and pass 1's.
+  CHECK(total_traced == before + pixels);
+}
+
+TEST_CASE("the progressive render's passes are the command line's images bit for bit, each reusing the one before",
+          "[viewer]") {
+  RenderOptions o;
+  o.width = 40;
+  o.height = 30;
+  o.threads = 2;
+  o.seed = 7;
+  o.progress = false;
+  o.scene_path = "CBspheres_lambertian.dae";
+  o.part = 4;
+  o.samples_per_pixel = 16;
+  o.light_samples = 2;
+  o.max_depth = 4;
+  check_passes("CBspheres_lambertian.dae", o, "part 4");
+  o.samples_per_pixel = 12;  // the last pass is not a power of two
+  check_passes("CBspheres_lambertian.dae", o, "part 4, -s 12");
+  o.part = 5;  // adaptive: pixels stop at a batch's end, in the last pass too
+  o.samples_per_pixel = 64;
+  o.adaptive_batch = 8;
+  o.adaptive_tolerance = 0.1;
+  check_passes("CBspheres_lambertian.dae", o, "part 5");
+  o.part = 3;
+  o.samples_per_pixel = 8;
+  o.cell_set = true;  // a cell: only its pixels
+  o.cell_x = 5;
+  o.cell_y = 7;
+  o.cell_w = 11;
+  o.cell_h = 9;
+  check_passes("CBspheres_lambertian.dae", o, "part 3, a cell");
 }
 
 TEST_CASE("Debug mode reads the page's input, refuses absurd values, and answers with the debugger's result", "[viewer]") {

@@ -11,9 +11,11 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
+#include "common/todo.h"
 #include "pathtracer/options.h"
 #include "viewer/server.h"
 #include "viewer/worker.h"
@@ -25,6 +27,39 @@ std::string self_exe(const char* argv0) {
   const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
   if (n > 0) return std::string(buf, size_t(n));
   return argv0;
+}
+
+// The parts of this build that still have stubs (PT_TODO lines, compiled
+// in whether they run or not).
+std::set<int> stub_parts() {
+  std::set<int> parts;
+  for (const pt::TodoSite& s : pt::todo_sites()) parts.insert(s.part);
+#ifdef PT_VIEWER_PLANTS
+  // Test builds: PT_VIEWER_PLANT=stubs pretends parts 2 to 5 are stubs.
+  if (const char* p = std::getenv("PT_VIEWER_PLANT"); p && std::string(p) == "stubs") parts.insert({2, 3, 4, 5});
+#endif
+  return parts;
+}
+
+// Starts at the last part whose functions are all written (part 1 when
+// part 1's are not), and says why in one line.
+void start_at_written_part(pt::viewer::ServerConfig* cfg) {
+  const std::set<int> stubs = stub_parts();
+  if (stubs.empty()) return;
+  const int first = *stubs.begin();
+  std::string missing;
+  for (int p : stubs) missing += (missing.empty() ? "" : ", ") + std::to_string(p);
+  const std::string which = (stubs.size() == 1 ? "part " : "parts ") + missing;
+  if (first <= 1) {
+    cfg->start.part = 1;
+    cfg->start_note = "Starting at part 1: its functions are not written yet (" + which +
+                      " still have TODO stubs; the banner lists part 1's).";
+  } else {
+    cfg->start.part = first - 1;
+    cfg->start_note = "Starting at part " + std::to_string(first - 1) + ", the last part written: " + which +
+                      (stubs.size() == 1 ? " still has" : " still have") +
+                      " TODO stubs. Pick a part under \"part\" to see another.";
+  }
 }
 
 std::string parent_folder(const std::string& file) {
@@ -85,6 +120,10 @@ int main(int argc, char** argv) {
     }
     if (auto code = pt::parse_command_line(int(rest.size()), rest.data(), &cfg.start)) return *code;
     cfg.start.progress = false;
+    // Without --part: the last part whose code is written.
+    bool part_given = false;
+    for (char* a : rest) part_given = part_given || std::strcmp(a, "--part") == 0;
+    if (!part_given) start_at_written_part(&cfg);
     cfg.files.allow_folder(parent_folder(cfg.start.scene_path));
     if (!cfg.start.camera_settings.empty()) cfg.files.allow_folder(parent_folder(cfg.start.camera_settings));
     if (!cfg.start.env_map.empty()) cfg.files.allow_folder(parent_folder(cfg.start.env_map));

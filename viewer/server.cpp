@@ -81,7 +81,8 @@ void serve_file(httplib::Response& res, const std::string& path, const char* typ
 std::string state_json(const App& app) {
   const ServerConfig& c = app.cfg;
   std::ostringstream s;
-  s << "{\"start\":" << settings_json(c.start) << ",\"parts_built\":" << kPartsBuilt
+  s << "{\"start\":" << settings_json(c.start) << ",\"start_note\":" << json_quote(c.start_note)
+    << ",\"parts_built\":" << kPartsBuilt
     << ",\"scenes\":" << files_json(c.files, FileKind::Scene)
     << ",\"cameras\":" << files_json(c.files, FileKind::Camera)
     << ",\"envs\":" << files_json(c.files, FileKind::Environment) << ",\"folders\":[";

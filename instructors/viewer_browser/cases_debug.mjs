@@ -244,7 +244,7 @@ cases.debug_todo = async () => {
     const text = await page.locator('#banner').textContent();
     check(e.ok && e.result.hit && e.result.t === 2, 'the tool answers', JSON.stringify(e.result || e.error));
     check(await page.locator('#banner').isVisible() &&
-          text.includes('Part 1 not implemented (TODO: raytrace_pixel, stages/part1_raytracing/pixel_sampling.cpp)'),
+          text.includes('Part 1, raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp): not written yet; meanwhile one sample through the pixel centre, whatever -s'),
           'the banner names the part, the function and the file', text);
     await page.screenshot({path: path.join(OUT, 'debug_todo.png')});
   }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'todo'}});

@@ -239,7 +239,7 @@ cases.todo_banner = async () => {
     const end = await renderEnd(page, await lastJob(page));
     const text = await page.locator('#banner').textContent();
     check(await page.locator('#banner').isVisible() &&
-          text.includes('Part 1 not implemented (TODO: raytrace_pixel, stages/part1_raytracing/pixel_sampling.cpp)'),
+          text.includes('Part 1, raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp): not written yet; meanwhile one sample through the pixel centre, whatever -s'),
           'the banner names the part, the function and the file', text);
     check(end.state === 'done', 'the render still finishes', end.state);
     const px = await canvasPixels(page);
@@ -393,4 +393,27 @@ cases.diff_pending = async () => {
   } finally {
     fs.rmSync(gate, {recursive: true, force: true});
   }
+};
+
+// A build whose parts 2 to 5 are still stubs (the test build pretends so):
+// with no --part, the page starts at part 1, the last part written, and
+// says why in one line.
+cases.start_part = async () => {
+  await withViewerPage(['-r', '64', '48', '-s', '2', '-t', '2', SCENE()], async (page) => {
+    const job = await waitEvent(page, `e.type === 'render'`);
+    check(job.settings.part === 1, 'the first render is at part 1', String(job.settings.part));
+    check((await page.inputValue('select[name=part]')) === '1', 'the settings show part 1');
+    const note = await page.locator('#start-note').textContent();
+    check(await page.locator('#start-note').isVisible() &&
+          note === 'Starting at part 1, the last part written: parts 2, 3, 4, 5 still have TODO stubs. Pick a part under "part" to see another.',
+          'one line says why and which part to pick', note);
+    await renderEnd(page, job.job);
+    await page.screenshot({path: path.join(OUT, 'start_part.png')});
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'stubs'}});
+  // With --part, the command line decides.
+  await withViewerPage(['--part', '3', '-r', '64', '48', '-s', '2', '-t', '2', SCENE()], async (page) => {
+    const job = await waitEvent(page, `e.type === 'render'`);
+    check(job.settings.part === 3 && !(await page.locator('#start-note').isVisible()), '--part 3 starts at part 3, no note',
+          String(job.settings.part));
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'stubs'}});
 };

@@ -13,7 +13,7 @@ namespace pt {
 Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit) {
   (void)r;
   // BEGIN SOLUTION
-  // STUB: PT_TODO(3);
+  // STUB: PT_TODO(3, "lights give no light of their own: they look black");
   // STUB: unused(ctx, hit);
   // STUB: return Color(0.0f);
   return emission(ctx.scene.materials[size_t(hit.material)]);
@@ -22,7 +22,7 @@ Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& h
 
 Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(3);
+  // STUB: PT_TODO(3, "no direct light with -H: black");
   // STUB: unused(ctx, r, hit, rng);
   // STUB: return Color(0.0f);
   const Frame frame = Frame::from_normal(hit.n);
@@ -46,7 +46,7 @@ Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& 
 
 Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(3);
+  // STUB: PT_TODO(3, "no direct light: black but for the lights");
   // STUB: unused(ctx, r, hit, rng);
   // STUB: return Color(0.0f);
   const Frame frame = Frame::from_normal(hit.n);

@@ -651,6 +651,11 @@ TEST_CASE("failing code gives a result naming where it failed, and TODO stubs ar
     CHECK(rec.ok());
     REQUIRE(rec.todos.size() == 1);
     CHECK(rec.todos[0] == "TODO: implement Part 2: a stubbed traversal (test)");
+    // The path is said to be the stubs': in why it ended and in a note.
+    CHECK(rec.end.find("(a stubbed traversal is still a stub)") != std::string::npos);
+    CHECK(std::find(rec.notes.begin(), rec.notes.end(),
+                    "the part's functions are still stubs (a stubbed traversal): this path is what their stand-ins "
+                    "do, not what the assignment asks for") != rec.notes.end());
   }
 }
 

@@ -196,6 +196,19 @@ PathRecord record_path(const Scene& scene, const Intersector& geometry, const Re
                           "groups its sums differently from the reference)");
   }
   rec.end = end_reason(opts, rec);
+  if (!rec.todos.empty()) {
+    // The path is what the stubs' stand-ins do: say so, by name.
+    std::string names;
+    for (const std::string& t : rec.todos) {
+      // "TODO: implement Part 1: generate_ray (stages/...); note" -> "generate_ray"
+      const size_t colon = t.find(": ", t.find("Part "));
+      const std::string rest = colon == std::string::npos ? t : t.substr(colon + 2);
+      names += (names.empty() ? "" : ", ") + rest.substr(0, rest.find(" ("));
+    }
+    rec.end += " (" + names + (rec.todos.size() == 1 ? " is" : " are") + (rec.todos.size() == 1 ? " still a stub)" : " still stubs)");
+    rec.notes.push_back("the part's functions are still stubs (" + names +
+                        "): this path is what their stand-ins do, not what the assignment asks for");
+  }
   return rec;
 }
 

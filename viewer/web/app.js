@@ -70,19 +70,21 @@ function stallText(stalled, what, ago) {
 }
 viewer.stallText = stallText;
 
-// "Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp)" lines,
-// as one line per part.
+// The TODO lines ("Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp);
+// one sample through the pixel centre, whatever -s"), one line per function
+// still a stub: its part, name and file, and what the render does meanwhile.
 function todoText(todo) {
-  const parts = new Map();
+  const lines = [];
   for (const line of todo) {
-    // "Part 2: BVH construction (stages/part2_bvh/bvh_build.cpp); using one leaf"
-    const m = /^Part (\d+): (.*?) \(([^()]*)\)(.*)$/.exec(line);
-    const part = m ? m[1] : '?';
-    if (!parts.has(part)) parts.set(part, []);
-    parts.get(part).push(m ? `${m[2]}, ${m[3]}${m[4]}` : line);
+    const m = /^Part (\d+): (.*?) \(([^()]*)\)(?:; (.*))?$/.exec(line);
+    if (!m) {
+      lines.push({part: '?', text: `${line}: not written yet`});
+      continue;
+    }
+    lines.push({part: m[1], text: `Part ${m[1]}, ${m[2]} (${m[3]}): not written yet${m[4] ? `; meanwhile ${m[4]}` : ''}`});
   }
-  return [...parts].sort((a, b) => a[0].localeCompare(b[0]))
-    .map(([p, fns]) => `Part ${p} not implemented (TODO: ${fns.join('; ')})`).join('\n');
+  lines.sort((a, b) => a.part.localeCompare(b.part));
+  return lines.map((l) => l.text).join('\n');
 }
 
 // ------------------------------------------------------------- settings
@@ -567,6 +569,9 @@ async function main() {
     return;
   }
   viewer.start = st.start;
+  // Why the settings start at this part (the build's parts still stubbed).
+  $('start-note').textContent = st.start_note || '';
+  $('start-note').hidden = !st.start_note;
   fillSelect(form.elements.scene, st.scenes, st.start.scene);
   fillSelect(form.elements.camera_file, st.cameras, st.start.camera_file, '(the scene\'s camera)');
   fillSelect(form.elements.env, st.envs, st.start.env, '(none)');

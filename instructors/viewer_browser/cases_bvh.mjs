@@ -18,6 +18,17 @@ cases.bvh = async () => {
     const info = await page.locator('#bvh-info').textContent();
     check(/depth 0/.test(info) && /primitives [\d,]+/.test(info) && /SAH cost \d/.test(info) && /camera rays in [\d,]+/.test(info),
           'the panel shows depth, primitives, SAH cost and rays for the root', info);
+    // The panel stands beside the scene's view, not over it.
+    const boxes = await page.evaluate(() => {
+      const r = (id) => {
+        const b = document.getElementById(id).getBoundingClientRect();
+        return [b.left, b.top, b.right, b.bottom];
+      };
+      return {canvas: r('three-canvas'), info: r('bvh-info')};
+    });
+    const [c, i] = [boxes.canvas, boxes.info];
+    check(i[2] > i[0] && i[3] > i[1] && !(c[0] < i[2] && i[0] < c[2] && c[1] < i[3] && i[1] < c[3]),
+          'the node\'s panel does not cover the scene (its box and the canvas\'s do not overlap)', JSON.stringify(boxes));
     await page.screenshot({path: path.join(OUT, 'bvh_mode.png')});
     // Step to each child with the course's keys and back with '?'.
     const kids = [];

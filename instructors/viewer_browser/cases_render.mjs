@@ -301,7 +301,7 @@ cases.screenshots = async () => {
     const shots = [];
     // PNG artefacts; the README's copies (--publish) as small JPEGs of the same frame.
     const shoot = async (name) => {
-      const clip = {x: 0, y: 0, width: 1280, height: 860};
+      const clip = {x: 0, y: 0, width: 1400, height: 860};
       await page.screenshot({path: path.join(OUT, name.replace(/\.jpg$/, '.png')), clip});
       if (args.publish) {
         const file = path.join(OUT, name);

@@ -17,6 +17,7 @@
 #include "viewer/debug_api.h"
 #include "viewer/debugger/debugger.h"
 #include "common/json.h"
+#include "common/todo.h"
 #include "viewer/file_access.h"
 #include "viewer/overlays.h"
 #include "pathtracer/render_job.h"
@@ -136,10 +137,22 @@ TEST_CASE("the progressive render's passes take 1, 2, 4, ... samples and end at 
   CHECK(viewer::pass_schedule(64, viewer::samples_kept(8192LL * 4096)) == V{1, 64});
 }
 
+// Whether this build's pixel functions are written (in the starter kit
+// they are stubs that take one sample whatever -s, so that no pass has
+// samples to reuse).
+bool pixel_functions_written() {
+  for (const TodoSite& s : todo_sites())
+    if (s.part == 1 || s.part == 5) return false;
+  return true;
+}
+
 // Every pass of the viewer's progressive render against the command line's
-// render_scene at that pass's sample count: bit for bit, and every sample
-// of a pass but the new ones taken from the pass before.
+// render_scene at that pass's sample count: bit for bit, and (pixel
+// functions written) every sample of a pass but the new ones taken from
+// the pass before.
 void check_passes(const std::string& scene_name, RenderOptions o, const std::string& what) {
+  const bool counted = pixel_functions_written();
+  if (!counted) WARN("parts 1 and 5's pixel functions are stubs here: only the images are compared");
   Scene scene = load_collada(std::string(PT_PROJECT_SCENES_DIR) + "/" + scene_name);
   configure_camera(scene.camera, o);
   const long long pixels = o.cell_set ? (long long)o.cell_w * o.cell_h : (long long)o.width * o.height;
@@ -158,15 +171,17 @@ void check_passes(const std::string& scene_name, RenderOptions o, const std::str
     for (uint32_t n : r.image.samples) taken += n;
     // Reused: every sample the pass before took (pass 1's centre rays are
     // not jittered: none); traced: the rest.
-    CHECK((long long)reused == (pass <= 1 ? 0 : before));
-    CHECK((long long)(traced + reused) == taken);
+    if (counted) {
+      CHECK((long long)reused == (pass <= 1 ? 0 : before));
+      CHECK((long long)(traced + reused) == taken);
+    }
     before = taken;
     total_traced += (long long)traced;
   };
   viewer::render_progressive(scene, o, hooks);
   CHECK(counts == viewer::pass_schedule(o.samples_per_pixel, viewer::samples_kept(pixels)));
   // All passes together trace the last pass's samples and pass 1's.
-  CHECK(total_traced == before + pixels);
+  if (counted) CHECK(total_traced == before + pixels);
 }
 
 TEST_CASE("the progressive render's passes are the command line's images bit for bit, each reusing the one before",

@@ -12,7 +12,8 @@ export const cases = {};
 const LOOP = /an infinite loop in planted_infinite_loop_in_(render|debug_tool) \(viewer\/worker\.cpp:\d+\)\?/;
 
 cases.stuck_render = async () => {
-  const flags = ['--idle-stop', '2', '-r', '64', '48', '-s', '4', '-t', '2', '--seed', '15', SCENE()];
+  // --idle-stop 5: a live page asks again at once after each answer, well within it.
+  const flags = ['--idle-stop', '5', '-r', '64', '48', '-s', '4', '-t', '2', '--seed', '15', SCENE()];
   let viewer = null;
   await withViewerPage(flags, async (page, v, errors) => {
     viewer = v;
@@ -60,10 +61,10 @@ cases.stuck_render = async () => {
     await page.click('#dbg-intersect-run');
     await page.waitForFunction(() => /running…/.test(document.getElementById('dbg-intersect-out').textContent));
     check(workersOf(v, 'debug').length === 1, 'a new Debug call runs', String(workersOf(v, 'debug').length));
-    const ended = v.waitStderr(/viewer: stopped job (\d+) \(debug\): no page asked about it for 2 s/);
+    const ended = v.waitStderr(/viewer: stopped job (\d+) \(debug\): no page asked about it for 5 s/);
     await page.close();
     await ended;
-    check(workersOf(v, 'debug').length === 0, 'once its page is closed, the viewer stops the Debug call (--idle-stop 2)');
+    check(workersOf(v, 'debug').length === 0, 'once its page is closed, the viewer stops the Debug call (--idle-stop 5)');
     check(errors.filter((e) => !/status of 409/.test(e)).length === 0, 'no script errors in the page', errors.join('; '));
   }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'hang'}});
   check(viewer && viewer.proc.exitCode === 0, 'the viewer stops cleanly', String(viewer && viewer.proc.exitCode));

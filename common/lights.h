@@ -7,6 +7,7 @@
 #pragma once
 #include <limits>
 
+#include "common/path_recorder.h"
 #include "common/samplers.h"
 #include "common/scene.h"
 
@@ -27,7 +28,11 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // COLLADA attenuation 1 / (c + l d + q d^2). Directional: radiance along
 // its direction. Ambient: uniform over the upper (+Y) hemisphere.
 // Environment: uniform over the sphere (pdf 1 / (4 pi)).
-inline LightSample sample_light(const Light& light, const Vec3& p, float u1, float u2) {
+// The path inspector is told of each call (common/path_recorder.h).
+inline LightSample sample_light(const Light& light, const Vec3& p, float u1, float u2);
+
+namespace detail {
+inline LightSample sample_light_at(const Light& light, const Vec3& p, float u1, float u2) {
   LightSample s;
   switch (light.type) {
     case LightType::Area: {
@@ -79,6 +84,13 @@ inline LightSample sample_light(const Light& light, const Vec3& p, float u1, flo
       return s;
     }
   }
+  return s;
+}
+}  // namespace detail
+
+inline LightSample sample_light(const Light& light, const Vec3& p, float u1, float u2) {
+  const LightSample s = detail::sample_light_at(light, p, u1, u2);
+  record_light_sample(light, p, u1, u2, s);
   return s;
 }
 

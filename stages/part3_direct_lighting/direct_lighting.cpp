@@ -13,7 +13,7 @@ namespace pt {
 Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit) {
   (void)r;
   // BEGIN SOLUTION
-  // STUB: PT_TODO(3);
+  // STUB: PT_TODO(3, "lights give no light of their own: they look black");
   // STUB: unused(ctx, hit);
   // STUB: return Color(0.0f);
   return emission(ctx.scene.materials[size_t(hit.material)]);
@@ -24,7 +24,7 @@ Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& h
 // default), not at the course's EPS_D = 1e-11, which is no offset in float.
 Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(3);
+  // STUB: PT_TODO(3, "no direct light with -H: black");
   // STUB: unused(ctx, r, hit, rng);
   // STUB: return Color(0.0f);
   const Frame frame = Frame::from_normal(hit.n);
@@ -53,7 +53,7 @@ Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& 
 // always positive, with zero radiance for a sample that brings no light.
 Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(3);
+  // STUB: PT_TODO(3, "no direct light: black but for the lights");
   // STUB: unused(ctx, r, hit, rng);
   // STUB: return Color(0.0f);
   const Frame frame = Frame::from_normal(hit.n);

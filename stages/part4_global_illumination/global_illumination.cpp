@@ -11,7 +11,7 @@ namespace pt {
 Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions& opts, const Ray& r,
                                    const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(4);
+  // STUB: PT_TODO(4, "direct light only (one bounce)");
   // STUB: unused(opts);
   // STUB: return one_bounce_radiance(ctx, r, hit, rng);
   // One path, bounce by bounce, in a loop rather than by recursion: -m sets

@@ -32,7 +32,7 @@ catalogue_option() {
     --build-root|--table|-j|--only)
       [ $# -ge 2 ] || { echo "$tool: $1 needs a value" >&2; return 1; }
       case "$1" in
-        --build-root) build_root=$2 ;;
+        --build-root) build_root=$(realpath -m "$2") ;;
         --table) table=$2 ;;
         -j) jobs=$2 ;;
         --only) only+=("$2") ;;
@@ -41,7 +41,7 @@ catalogue_option() {
     --check) mode=check; catalogue_shift=1 ;;
     --plant)
       [ $# -ge 3 ] || { echo "$tool: --plant NAME DIR" >&2; return 1; }
-      mode=plant; plant_name=$2; plant_dir=$3; catalogue_shift=3 ;;
+      mode=plant; plant_name=$2; plant_dir=$(realpath -m "$3"); catalogue_shift=3 ;;
     *) echo "$tool: unknown argument $1" >&2; return 1 ;;
   esac
 }
@@ -62,11 +62,15 @@ copy_tree() {
   fi
 }
 
-# Applies (or with -R reverts) patch $2 inside folder $1.
+# Applies (or with -R reverts) patch $2 inside folder $1 (absolute). Git
+# must not take $1 for a subfolder of the checkout it lies in (the default
+# build roots are under build/): there it would skip every path outside $1,
+# which is all of them, and say so only with --verbose. The ceiling stops
+# its search for a repository at $1, so it patches $1 as a plain folder.
 apply_patch() {
   local dir=$1 patch=$2
   shift 2
-  (cd "$dir" && git apply "$@" "$patch")
+  (cd "$dir" && GIT_CEILING_DIRECTORIES=$(dirname "$dir") git apply "$@" "$patch")
 }
 
 # --check: the list and the folder agree, every entry has a part and a
@@ -152,6 +156,7 @@ catalogue_build_all() {
   copy_tree "$src"
   mkdir -p "$build_root/tree.build" "$build_root/bin"
   build_pathtracer "$build_root/tree.build" "$src" || { echo "$tool: the unpatched copy does not build" >&2; exit 2; }
+  cp "$build_root/tree.build/bin/pathtracer" "$build_root/unpatched.pathtracer"
   names=()
   declare -gA part_of=() description_of=() built=()
   while read -r name part description; do
@@ -161,11 +166,16 @@ catalogue_build_all() {
     description_of[$name]=$description
     echo "== build $name"
     apply_patch "$src" "$root/$patches/$name.patch"
-    if build_pathtracer "$build_root/tree.build" "$src"; then
+    if ! build_pathtracer "$build_root/tree.build" "$src"; then
+      cp "$build_root/tree.build.build.log" "$build_root/$name.build.log"
+    elif cmp -s "$build_root/tree.build/bin/pathtracer" "$build_root/unpatched.pathtracer"; then
+      # A patch that changes code always changes the binary: the same bytes
+      # mean it was not applied or not rebuilt, and grading it would grade
+      # the reference under the patch's name.
+      echo "$tool: $name: the built pathtracer is the unpatched one, byte for byte" | tee "$build_root/$name.build.log" >&2
+    else
       cp "$build_root/tree.build/bin/pathtracer" "$build_root/bin/$name"
       built[$name]=1
-    else
-      cp "$build_root/tree.build.build.log" "$build_root/$name.build.log"
     fi
     apply_patch "$src" "$root/$patches/$name.patch" -R
   done < <(catalogue_lines)

@@ -4,33 +4,40 @@
 For each Monte Carlo case named, renders every build at --renders seeds (the
 exact command `grader compare --list` prints, -t 1) and compares, per colour
 channel:
-Each build renders at its own seeds, --first-seed + 100 * (crc32(NAME) % 10000)
-onward, so builds that draw the same random numbers are judged independently.
   - the image mean: the build's mean over its renders against the mean of
     reference_images/<case>/mean.pfm, z = difference / sqrt(se_build^2 +
     se_ref^2), se_build from the spread of its renders' image means, se_ref
     from variance.pfm (100 renders);
   - the mean image, block by block (8 x 8 pixels): each block's mean over the
     renders against the reference's, with the standard error of the build's
-    block means across its renders (a t statistic with renders - 1 degrees of
-    freedom) and the reference's, plus float round-off (1e-6 of the value);
-    "blocks off" counts blocks beyond the Sidak
-    threshold for alpha = 0.01 over all blocks and channels (normal
-    approximation), and mean z^2 should be near (n - 1) / (n - 3), 1.12 at 20.
-For a deterministic case (normal shading at one sample) each build renders
-once and is compared by value: the largest difference and the share of
-channels beyond 1e-3 + 1e-3 |m| (the grader's own rule).
+    block means across its renders (a t statistic with renders - 1 degrees
+    of freedom) and the reference's, plus float round-off (1e-6 of the
+    value); "blocks off" counts blocks beyond the Sidak threshold for
+    alpha = 0.01 over all blocks and channels (normal approximation), and
+    mean z^2 should be near (n - 1) / (n - 3), 1.12 at 20 renders.
+Each build renders at its own seeds, --first-seed + 100 * (crc32(NAME) %
+10000) onward, so builds that draw the same random numbers are judged
+independently. For a deterministic case (normal shading at one sample) each
+build renders once and is compared by value: the largest difference and the
+share of channels beyond 1e-3 + 1e-3 |m| (the grader's own rule). A render
+with NaN or infinite pixels is reported as such.
 
-A render with NaN or infinite pixels is reported as such.
+--paired renders every build once at the same seed and reports how much of
+each image is bit-identical to the first build's: a variant that changes
+only how the answers are found (another BVH, shadow rays by closest hit)
+draws the same random numbers and so renders exactly the reference's image.
 
   check_unbiased.py --build NAME=PATH [--build ...] --case CASE [--case ...]
-                    [--renders 20] [--first-seed 3000] [-j 2] [--work DIR] [--json FILE] [--reuse]
+                    [--renders 20] [--first-seed 3000] [-j 2] [--work DIR]
+                    [--json FILE] [--table FILE] [--reuse]
+  check_unbiased.py --paired --build NAME=PATH ... --case CASE ... [--first-seed S]
 
-Run the reference build too (NAME=build/bin/pathtracer): it is the control,
-the figures a correct build shows at this number of renders.
+Run the reference build too (NAME=build/bin/pathtracer), first: it is the
+control, the figures a correct build shows at this number of renders.
 """
 import argparse
 import concurrent.futures
+import datetime
 import json
 import math
 import os
@@ -188,6 +195,9 @@ def main():
     ap.add_argument("--grader", default=os.path.join(ROOT, "build", "bin", "grader"))
     ap.add_argument("--work", default=os.path.join(ROOT, "build", "legal_variants", "unbiased"))
     ap.add_argument("--json", help="also write every figure to this JSON file")
+    ap.add_argument("--paired", action="store_true",
+                    help="render every build at --first-seed only and compare each with the first build's image")
+    ap.add_argument("--table", help="also write a Markdown summary to this file")
     ap.add_argument("--reuse", action="store_true", help="judge the renders already in --work again (no rendering)")
     a = ap.parse_args()
     if a.renders < 4:
@@ -204,6 +214,8 @@ def main():
             ap.error(f"--case {c}: not a grading case (grader compare --list)")
         if not os.path.isfile(os.path.join(ROOT, "reference_images", c, "meta.json")):
             ap.error(f"--case {c}: no reference in reference_images/{c}")
+    if a.paired:
+        return paired(builds, cmds, a)
     results = {}
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.j) as pool:
         for name, binary in builds:
@@ -228,7 +240,94 @@ def main():
     if a.json:
         with open(a.json, "w") as f:
             json.dump(results, f, indent=1)
+    if a.table:
+        write_table(a.table, results, a)
     return 0
+
+
+def paired(builds, cmds, a):
+    """--paired: every build renders each case at the same seed (--first-seed)
+    as the first build; prints how much of each image is bit-identical to
+    the first build's. A build whose answers and random numbers are the
+    reference's (another BVH, another order of tests) matches it exactly."""
+    (first, first_bin), others = builds[0], builds[1:]
+    cells = {n: {} for n, _ in others}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.j) as pool:
+        for case in a.case:
+            d = os.path.join(a.work, "paired", case)
+            os.makedirs(d, exist_ok=True)
+            futs = {n: pool.submit(render, b, cmds[case], a.first_seed, os.path.join(d, n), a.reuse) for n, b in builds}
+            _, _, ref = read_pfm(futs[first].result())
+            for n, _ in others:
+                try:
+                    _, _, img = read_pfm(futs[n].result())
+                except (RuntimeError, ValueError) as e:
+                    print(f"{n:28s} {case:22s} ERROR: {e}", flush=True)
+                    cells[n][case] = "error"
+                    continue
+                diffs = [abs(x - y) for x, y in zip(img, ref)]
+                same = sum(1 for x in diffs if x == 0) / len(diffs)
+                bad = sum(1 for x in img if not math.isfinite(x))
+                print(f"{n:28s} {case:22s} seed {a.first_seed}: {100 * same:6.2f} % of channels identical to {first}'s, "
+                      f"largest difference {max(diffs):.3g}" + (f", {bad} NaN or infinite channels" if bad else ""),
+                      flush=True)
+                cells[n][case] = ("identical" if same == 1 else f"{100 * same:.2f} %, max {max(diffs):.2g}") + \
+                    (" (NaN)" if bad else "")
+    if a.table:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                                text=True).stdout.strip() or "unknown"
+        out = [f"Made by `instructors/legal_variants/check_unbiased.py --paired --first-seed {a.first_seed}` at commit "
+               f"{commit} on {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%dT%H:%M:%SZ}: the share of each "
+               f"image's channels bit-identical to {first}'s at the same seed, and the largest difference.", "",
+               "| build | " + " | ".join(a.case) + " |", "|---|" + "---|" * len(a.case)]
+        for n, _ in others:
+            out.append(f"| {n} | " + " | ".join(cells[n].get(c, "") for c in a.case) + " |")
+        with open(a.table, "w") as f:
+            f.write("\n".join(out) + "\n")
+    return 0
+
+
+def write_table(path, results, a):
+    """A Markdown summary: per build, then every Monte Carlo case's image-mean z."""
+    builds = list(results)
+    cases = [c for c in a.case if not any(results[b][c].get("deterministic") for b in builds)]
+    det = [c for c in a.case if c not in cases]
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                            text=True).stdout.strip() or "unknown"
+    nb = next((r["blocks"] for b in builds for r in results[b].values() if "blocks" in r), 0)
+    out = [f"Made by `instructors/legal_variants/check_unbiased.py --renders {a.renders} --first-seed {a.first_seed}` "
+           f"at commit {commit} on {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%dT%H:%M:%SZ}.", "",
+           "| build | largest image-mean \|z\| (case) | blocks off, all cases | block mean z² (range over cases) | "
+           f"deterministic cases identical ({len(det)}) | errors |",
+           "|---|---|---:|---|---|---|"]
+    for b in builds:
+        mc = [(c, results[b][c]) for c in cases if "error" not in results[b][c]]
+        errs = [f"{c}: {results[b][c]['error']}" for c in a.case if "error" in results[b][c]]
+        if mc:
+            c, r = max(mc, key=lambda cr: max(abs(z) for z in cr[1]["mean_z"]))
+            worst = f"{max(r['mean_z'], key=abs):+.2f} ({c})"
+            off = sum(r["blocks_off"] for _, r in mc)
+            z2 = [r["block_mean_z2"] for _, r in mc]
+            z2s = f"{min(z2):.2f}-{max(z2):.2f}"
+        else:
+            worst, off, z2s = "-", "-", "-"
+        ds = [results[b][c] for c in det if "error" not in results[b][c]]
+        ident = sum(1 for r in ds if r["identical"])
+        dcell = f"{ident}" + ("" if ident == len(ds) else
+                              f" (others: max diff {max(r['max_diff'] for r in ds):.1g}, "
+                              f"{100 * max(r['off_share'] for r in ds):.2f} % beyond the grader's round-off)")
+        out.append(f"| {b} | {worst} | {off} | {z2s} | {dcell} | {'; '.join(errs) or '-'} |")
+    out += ["", "Image-mean z per case (the channel of largest |z|; NaN: the renders had NaN or infinite pixels):", "",
+            "| build | " + " | ".join(cases) + " |", "|---|" + "---:|" * len(cases)]
+    for b in builds:
+        cells = []
+        for c in cases:
+            r = results[b][c]
+            cells.append("NaN" if "error" in r else f"{max(r['mean_z'], key=abs):+.2f}")
+        out.append(f"| {b} | " + " | ".join(cells) + " |")
+    out.append("")
+    with open(path, "w") as f:
+        f.write("\n".join(out))
 
 
 def line(r):

@@ -149,7 +149,7 @@ def main():
             "what": "per case, the larger over the builds of the median over the seeds of each ray-query cost of "
                     "a plain binary BVH built the way the course suggests (what part 2's cost check compares "
                     "a student's BVH with)",
-            "made_by": "instructors/legal_variants/measure_plain_bvh.sh",
+            "made_by": "measure_plain_bvh.sh (the instructors' tools, not in the starter kit)",
             "commit": a.commit,
             "date": started,
             "builds": baseline,

@@ -60,7 +60,7 @@ LightSample sample_environment(const EnvironmentDistribution& d, const Environme
   // STUB: PT_TODO(8);
   // STUB: unused(d);
   // STUB: return sample_environment_uniform(&map, u1, u2);
-  LightSample s;
+  LightSample s;  // no light: radiance 0, pdf 1
   if (d.empty()) return s;
   const int w = d.width, h = d.height;
   // The first row whose running sum exceeds u1, and where u1 falls in it.
@@ -78,6 +78,12 @@ LightSample sample_environment(const EnvironmentDistribution& d, const Environme
   s.distance = kInfinity;
   s.pdf = environment_pdf(d, map, s.wi);
   s.radiance = map.lookup(s.wi);
+  // A direction of density 0 (rounded onto a black texel's edge, or a
+  // pole) brings no light; the pdf of a light sample stays positive.
+  if (!(s.pdf > 0)) {
+    s.pdf = 1.0f;
+    s.radiance = Color(0.0f);
+  }
   return s;
   // END SOLUTION
 }

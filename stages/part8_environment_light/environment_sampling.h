@@ -41,7 +41,9 @@ EnvironmentDistribution build_environment_distribution(const EnvironmentMap& map
 // inside the interval of the chosen row and column), so that directions are
 // uniform in (phi, theta) within a texel. Returns the direction (world,
 // unit), its solid-angle pdf environment_pdf(wi) and the map's radiance
-// lookup(wi), at infinite distance. Empty distributions: pdf 0.
+// lookup(wi), at infinite distance. As every light sample's (common/
+// lights.h), the pdf is positive: a sample that brings no light (empty
+// distributions, or environment_pdf(wi) = 0) has radiance 0 and pdf 1.
 LightSample sample_environment(const EnvironmentDistribution& d, const EnvironmentMap& map, float u1, float u2);
 
 // The solid-angle density of sample_environment's directions at wi (unit):

@@ -59,10 +59,8 @@ Material conductor(float alpha, const Color& eta, const Color& k) {
 }
 // F = 1 for every direction (eta = k = 0): a white conductor.
 Material white(float alpha) { return conductor(alpha, Color(0.0f), Color(0.0f)); }
-// Gold, the values of the course's CBdragon_microfacet_au.dae.
-Material gold(float alpha) {
-  return conductor(alpha, Color(0.21646f, 0.42833f, 1.3284f), Color(3.2390f, 2.4599f, 1.8661f));
-}
+// Gold, as in the project's scenes (610, 550 and 470 nm).
+Material gold(float alpha) { return conductor(alpha, Color(0.1884f, 0.3382f, 1.347f), Color(3.278f, 2.549f, 1.832f)); }
 
 Vec3d dvec(const Vec3& v) { return Vec3d(v.x, v.y, v.z); }
 

@@ -28,12 +28,4 @@ const BSDFModel kDiffuseModel = {"diffuse", diffuse_f, diffuse_sample_f, diffuse
 const BSDFModel kEmissionModel = {"emission", nothing_f, emission_sample_f, diffuse_pdf, false};
 const BSDFModel kBlackModel = {"not rendered", nothing_f, black_sample_f, nothing_pdf, false};
 
-const BSDFModel& default_bsdf_model(MaterialType t) {
-  switch (t) {
-    case MaterialType::Diffuse: return kDiffuseModel;
-    case MaterialType::Emission: return kEmissionModel;
-    default: return kBlackModel;
-  }
-}
-
 }  // namespace pt

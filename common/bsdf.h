@@ -44,7 +44,13 @@ extern const BSDFModel kEmissionModel;
 extern const BSDFModel kBlackModel;
 
 // The model used for a material of type t that has none set.
-const BSDFModel& default_bsdf_model(MaterialType t);
+inline const BSDFModel& default_bsdf_model(MaterialType t) {
+  switch (t) {
+    case MaterialType::Diffuse: return kDiffuseModel;
+    case MaterialType::Emission: return kEmissionModel;
+    default: return kBlackModel;
+  }
+}
 
 inline const BSDFModel& bsdf_model(const Material& m) { return m.model ? *m.model : default_bsdf_model(m.type); }
 
@@ -69,16 +75,24 @@ inline float diffuse_pdf(const Material& m, const Vec3& wo, const Vec3& wi) {
   return cosine_hemisphere_pdf(wi);
 }
 
-// The material's BSDF value, f(wo, wi).
-inline Color bsdf_f(const Material& m, const Vec3& wo, const Vec3& wi) { return bsdf_model(m).f(m, wo, wi); }
+// The material's BSDF value, f(wo, wi). (The diffuse BSDF, by far the
+// most common, is called inline rather than through the model's pointer.)
+inline Color bsdf_f(const Material& m, const Vec3& wo, const Vec3& wi) {
+  const BSDFModel& b = bsdf_model(m);
+  return &b == &kDiffuseModel ? diffuse_f(m, wo, wi) : b.f(m, wo, wi);
+}
 
 // Samples wi for outgoing wo; returns f and sets *wi and *pdf (see
 // BSDFModel::sample_f).
 inline Color bsdf_sample_f(const Material& m, const Vec3& wo, float u1, float u2, Vec3* wi, float* pdf) {
-  return bsdf_model(m).sample_f(m, wo, u1, u2, wi, pdf);
+  const BSDFModel& b = bsdf_model(m);
+  return &b == &kDiffuseModel ? diffuse_sample_f(m, wo, u1, u2, wi, pdf) : b.sample_f(m, wo, u1, u2, wi, pdf);
 }
 
-inline float bsdf_pdf(const Material& m, const Vec3& wo, const Vec3& wi) { return bsdf_model(m).pdf(m, wo, wi); }
+inline float bsdf_pdf(const Material& m, const Vec3& wo, const Vec3& wi) {
+  const BSDFModel& b = bsdf_model(m);
+  return &b == &kDiffuseModel ? diffuse_pdf(m, wo, wi) : b.pdf(m, wo, wi);
+}
 
 // Whether the material's BSDF is a delta distribution (mirror, glass).
 inline bool bsdf_is_delta(const Material& m) { return bsdf_model(m).delta; }

@@ -17,7 +17,7 @@ float specular_pdf(const Material&, const Vec3&, const Vec3&) { return 0.0f; }
 
 void reflect(const Vec3& wo, Vec3* wi) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(6);
+  // STUB: PT_TODO(6, "the reflection is the normal");
   // STUB: unused(wo);
   // STUB: *wi = Vec3(0.0f, 0.0f, 1.0f);
   *wi = Vec3(-wo.x, -wo.y, wo.z);
@@ -26,7 +26,7 @@ void reflect(const Vec3& wo, Vec3* wi) {
 
 bool refract(const Vec3& wo, Vec3* wi, float ior) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(6);
+  // STUB: PT_TODO(6, "no refraction ever (as total internal reflection)");
   // STUB: unused(wo, wi, ior);
   // STUB: return false;
   const bool entering = wo.z > 0;
@@ -41,7 +41,7 @@ bool refract(const Vec3& wo, Vec3* wi, float ior) {
 
 float schlick_reflectance(float cos_theta, float ior) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(6);
+  // STUB: PT_TODO(6, "reflectance 0");
   // STUB: unused(cos_theta, ior);
   // STUB: return 0.0f;
   const float r = (1.0f - ior) / (1.0f + ior);
@@ -53,7 +53,7 @@ float schlick_reflectance(float cos_theta, float ior) {
 
 Color mirror_sample_f(const Material& m, const Vec3& wo, float u1, float u2, Vec3* wi, float* pdf) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(6);
+  // STUB: PT_TODO(6, "mirrors reflect nothing: black");
   // STUB: unused(m, wo, u1, u2);
   // STUB: *wi = Vec3(0.0f, 0.0f, 1.0f);
   // STUB: *pdf = 0.0f;
@@ -69,7 +69,7 @@ Color mirror_sample_f(const Material& m, const Vec3& wo, float u1, float u2, Vec
 
 Color refraction_sample_f(const Material& m, const Vec3& wo, float u1, float u2, Vec3* wi, float* pdf) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(6);
+  // STUB: PT_TODO(6, "refracting surfaces send nothing: black");
   // STUB: unused(m, wo, u1, u2);
   // STUB: *wi = Vec3(0.0f, 0.0f, 1.0f);
   // STUB: *pdf = 0.0f;
@@ -88,7 +88,7 @@ Color refraction_sample_f(const Material& m, const Vec3& wo, float u1, float u2,
 
 Color glass_sample_f(const Material& m, const Vec3& wo, float u1, float u2, Vec3* wi, float* pdf) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(6);
+  // STUB: PT_TODO(6, "glass sends nothing: black");
   // STUB: unused(m, wo, u1, u2);
   // STUB: *wi = Vec3(0.0f, 0.0f, 1.0f);
   // STUB: *pdf = 0.0f;

@@ -33,7 +33,7 @@ float microfacet_G(const Material& m, const Vec3& wo, const Vec3& wi) {
 
 float microfacet_D(const Material& m, const Vec3& h) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(7);
+  // STUB: PT_TODO(7, "D = 1 everywhere");
   // STUB: unused(m, h);
   // STUB: return 1.0f;
   const float c = h.z;
@@ -48,7 +48,7 @@ float microfacet_D(const Material& m, const Vec3& h) {
 
 Color microfacet_F(const Material& m, const Vec3& wi) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(7);
+  // STUB: PT_TODO(7, "F = 0: metal reflects nothing");
   // STUB: unused(m, wi);
   // STUB: return Color(0.0f);
   const float c = wi.z > 0.0f ? (wi.z < 1.0f ? wi.z : 1.0f) : 0.0f, c2 = c * c;
@@ -67,7 +67,7 @@ Color microfacet_F(const Material& m, const Vec3& wi) {
 
 Color microfacet_f(const Material& m, const Vec3& wo, const Vec3& wi) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(7);
+  // STUB: PT_TODO(7, "metal reflects nothing: black");
   // STUB: unused(m, wo, wi);
   // STUB: return Color(0.0f);
   if (!(wo.z > 0) || !(wi.z > 0)) return Color(0.0f);
@@ -79,7 +79,7 @@ Color microfacet_f(const Material& m, const Vec3& wo, const Vec3& wi) {
 
 Color microfacet_sample_f(const Material& m, const Vec3& wo, float u1, float u2, Vec3* wi, float* pdf) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(7);
+  // STUB: PT_TODO(7, "cosine-weighted directions, f of microfacet_f");
   // STUB: *wi = sample_cosine_hemisphere(u1, u2);
   // STUB: *pdf = cosine_hemisphere_pdf(*wi);
   // STUB: return microfacet_f(m, wo, *wi);
@@ -105,7 +105,7 @@ Color microfacet_sample_f(const Material& m, const Vec3& wo, float u1, float u2,
 
 float microfacet_pdf(const Material& m, const Vec3& wo, const Vec3& wi) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(7);
+  // STUB: PT_TODO(7, "the cosine-weighted density");
   // STUB: unused(m, wo);
   // STUB: return cosine_hemisphere_pdf(wi);
   if (!(wo.z > 0) || !(wi.z > 0)) return 0.0f;

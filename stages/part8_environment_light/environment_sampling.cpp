@@ -11,7 +11,7 @@ namespace pt {
 
 EnvironmentDistribution build_environment_distribution(const EnvironmentMap& map) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(8);
+  // STUB: PT_TODO(8, "no distributions");
   // STUB: unused(map);
   // STUB: return EnvironmentDistribution{};
   EnvironmentDistribution d;
@@ -57,7 +57,7 @@ EnvironmentDistribution build_environment_distribution(const EnvironmentMap& map
 
 LightSample sample_environment(const EnvironmentDistribution& d, const EnvironmentMap& map, float u1, float u2) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(8);
+  // STUB: PT_TODO(8, "the map sampled uniformly over the sphere");
   // STUB: unused(d);
   // STUB: return sample_environment_uniform(&map, u1, u2);
   LightSample s;  // no light: radiance 0, pdf 1
@@ -90,7 +90,7 @@ LightSample sample_environment(const EnvironmentDistribution& d, const Environme
 
 float environment_pdf(const EnvironmentDistribution& d, const EnvironmentMap& map, const Vec3& wi) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(8);
+  // STUB: PT_TODO(8, "the uniform density 1 / (4 pi)");
   // STUB: unused(d, map, wi);
   // STUB: return 1.0f / (4.0f * kPi);
   if (d.empty()) return 0.0f;

@@ -10,7 +10,7 @@ namespace pt {
 
 Ray generate_ray_for_thin_lens(const Camera& cam, double x, double y, double u1, double u2) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(9);
+  // STUB: PT_TODO(9, "a pinhole: -b has no effect");
   // STUB: unused(u1, u2);
   // STUB: return generate_ray(cam, x, y);
   const double deg = kPiDouble / 180.0;

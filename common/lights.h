@@ -22,12 +22,37 @@ struct LightSample {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
+// How an environment light is sampled when not uniformly (part 8's
+// importance sampling; the render sets Light::sampler for --part 8 on).
+class EnvironmentSampler {
+ public:
+  virtual ~EnvironmentSampler() = default;
+  // A direction toward the map from two uniform numbers in [0, 1): its
+  // solid-angle pdf and the map's radiance along it (distance infinite).
+  virtual LightSample sample(float u1, float u2) const = 0;
+  // The solid-angle density sample() draws the unit direction wi with.
+  virtual float pdf(const Vec3& wi) const = 0;
+};
+
+// The given way of sampling an environment light: a direction uniform over
+// the sphere (pdf 1 / (4 pi)) and the map's radiance along it.
+inline LightSample sample_environment_uniform(const EnvironmentMap* map, float u1, float u2) {
+  LightSample s;
+  const float z = 1.0f - 2.0f * u1, r = std::sqrt(std::fmax(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u2;
+  s.wi = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+  s.distance = kInfinity;
+  s.pdf = 1.0f / (4.0f * kPi);
+  s.radiance = map ? map->lookup(s.wi) : Color(0.0f);
+  return s;
+}
+
 // Samples `light` as seen from `p` with uniform numbers u1, u2 in [0, 1).
 // Area light: a uniform point on the rectangle, pdf dist^2 / (area |cos|),
 // one-sided (no radiance behind it). Point light: intensity scaled by the
 // COLLADA attenuation 1 / (c + l d + q d^2). Directional: radiance along
 // its direction. Ambient: uniform over the upper (+Y) hemisphere.
-// Environment: uniform over the sphere (pdf 1 / (4 pi)).
+// Environment: the light's sampler if it has one (part 8), else uniform
+// over the sphere (pdf 1 / (4 pi)).
 // The path inspector is told of each call (common/path_recorder.h).
 inline LightSample sample_light(const Light& light, const Vec3& p, float u1, float u2);
 
@@ -66,15 +91,9 @@ inline LightSample sample_light_at(const Light& light, const Vec3& p, float u1, 
       s.distance = kInfinity;
       s.radiance = light.radiance;
       return s;
-    case LightType::Environment: {
-      // Uniform over the sphere; the map's radiance along the direction.
-      const float z = 1.0f - 2.0f * u1, r = std::sqrt(std::fmax(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u2;
-      s.wi = Vec3(r * std::cos(phi), r * std::sin(phi), z);
-      s.distance = kInfinity;
-      s.pdf = 1.0f / (4.0f * kPi);
-      s.radiance = light.environment ? light.environment->lookup(s.wi) : Color(0.0f);
-      return s;
-    }
+    case LightType::Environment:
+      if (light.sampler) return light.sampler->sample(u1, u2);
+      return sample_environment_uniform(light.environment.get(), u1, u2);
     case LightType::Ambient: {
       const Vec3 w = sample_uniform_hemisphere(u1, u2);  // about +Z; turn to +Y
       s.wi = Vec3(w.x, w.z, -w.y);

@@ -20,6 +20,7 @@
 #include "stages/part1_raytracing/pixel_sampling.h"
 #include "pathtracer/radiance.h"
 #include "common/render_loop.h"
+#include "stages/part9_depth_of_field/thin_lens.h"
 
 namespace pt {
 
@@ -43,6 +44,8 @@ void configure_camera(Camera& cam, const RenderOptions& opts) {
   cam.height = opts.height;
   if (opts.lens_radius_set) cam.lens_radius = opts.lens_radius;
   if (opts.focal_distance_set) cam.focal_distance = opts.focal_distance;
+  // -b needs the thin lens of part 9; before, the camera is a pinhole.
+  cam.thin_lens = opts.part >= 9 ? generate_ray_for_thin_lens : nullptr;
 }
 
 RenderResult render_scene(const Scene& scene, const RenderOptions& opts, const RenderHooks& hooks,

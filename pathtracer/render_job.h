@@ -33,7 +33,8 @@ struct RenderCache {
   BVHBuildStats bvh;
 };
 
-// Applies -r, -c, -b and -d to the scene's camera (in that order).
+// Applies -r, -c, -b and -d to the scene's camera (in that order), and
+// gives it part 9's thin lens for --part 9 and later.
 void configure_camera(Camera& cam, const RenderOptions& opts);
 
 // What a caller of render_scene may add to a render (all optional).

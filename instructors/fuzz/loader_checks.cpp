@@ -16,6 +16,8 @@
 #include "common/collada.h"
 #include "common/environment.h"
 #include "common/scene.h"
+#include "stages/part8_environment_light/environment_sampling.h"
+#include "stages/part9_depth_of_field/thin_lens.h"
 
 namespace fuzz {
 
@@ -103,7 +105,8 @@ std::string check_camera(const pt::Camera& c, Random& rng) {
       !(c.lens_radius >= 0) || !std::isfinite(c.lens_radius))
     return "the camera holds a non-finite or out-of-range value";
   for (int i = 0; i < 4; ++i) {
-    const pt::Ray r = pt::thin_lens_ray(c, rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform());
+    const pt::Ray r =
+        pt::generate_ray_for_thin_lens(c, rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform());
     if (!pt::is_finite(r.d)) return "a thin-lens ray from the camera is not finite";
   }
   return "";
@@ -121,6 +124,13 @@ std::string check_map(const pt::EnvironmentMap& env, Random& rng) {
   for (int i = 0; i < 8; ++i) {
     const pt::Vec3 d(float(rng.uniform() * 2 - 1), float(rng.uniform() * 2 - 1), float(rng.uniform() * 2 - 1));
     env.lookup(d);
+  }
+  // Part 8's importance sampling of the map: finite samples and densities.
+  const pt::EnvironmentDistribution dist = pt::build_environment_distribution(env);
+  for (int i = 0; i < 8; ++i) {
+    const pt::LightSample s = pt::sample_environment(dist, env, float(rng.uniform()), float(rng.uniform()));
+    if (!pt::is_finite(s.wi) || !std::isfinite(s.pdf) || !(s.pdf >= 0) || !pt::is_finite(s.radiance))
+      return "an importance sample of the map is not finite";
   }
   return "";
 }

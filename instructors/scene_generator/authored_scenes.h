@@ -157,4 +157,45 @@ inline Scene cb_lights() {
   return s;
 }
 
+// Part 7: the spheres of CBspheres_lambertian.dae in metal, the front
+// right one rough gold (microfacet alpha 0.25), the back left one smoother
+// copper (alpha 0.05). Also the microfacet side of the renderer's speed
+// comparison (instructors/bench/material_speed.sh).
+inline Scene cb_spheres_microfacet() {
+  Scene s;
+  s.file = "CBspheres_microfacet.dae";
+  s.purpose = "Cornell box with the CGL area light, a rough gold sphere (front right, microfacet alpha 0.25) "
+              "and a copper one (back left, alpha 0.05)";
+  add_cornell_box(s);
+  s.materials.push_back(gold("gold", 0.25));
+  s.materials.push_back(copper("copper", 0.05));
+  add_cornell_area_light(s);
+  s.spheres.push_back({"SphereFrontRight", "gold", kSphereFrontRight, kSphereRadius});
+  s.spheres.push_back({"SphereBackLeft", "copper", kSphereBackLeft, kSphereRadius});
+  s.camera = course_camera(s, {0, 0, 1});
+  return s;
+}
+
+// Part 9's depth of field: five diffuse spheres of different colours in a
+// diagonal row from the front right to the back left of the box, their
+// centres 0.5 apart in depth (z = 0.7 ... -0.7), so that a focus stack
+// (-d at each sphere's distance, 4.1 ... 5.5) moves the sharp one back.
+inline Scene cb_spheres_dof() {
+  Scene s;
+  s.file = "CBspheres_dof.dae";
+  s.purpose = "Cornell box with the CGL area light and five diffuse spheres in a row receding from the camera "
+              "(part 9: depth of field)";
+  add_cornell_box(s);
+  add_cornell_area_light(s);
+  const Rgb colours[5] = {{0.8, 0.3, 0.2}, {0.8, 0.7, 0.2}, {0.3, 0.7, 0.3}, {0.2, 0.5, 0.8}, {0.6, 0.3, 0.7}};
+  for (int i = 0; i < 5; ++i) {
+    const std::string name = "dof" + std::to_string(i);
+    s.materials.push_back(diffuse(name, colours[i]));
+    const double r = 0.16;
+    s.spheres.push_back({"Sphere" + std::to_string(i), name, {0.6 - 0.3 * i, r, 0.7 - 0.35 * i}, r});
+  }
+  s.camera = course_camera(s, {0, 0, 1});
+  return s;
+}
+
 }  // namespace scenegen

@@ -86,6 +86,17 @@ std::vector<Recipe> all_recipes() {
       {"teapot.dae", {"TeapotGeometry.js"}, teapot},
       {"armadillo.dae", {"armadillo.off"}, armadillo},
       {"bunny_ambient.dae", {"bunny00.off"}, bunny_ambient},
+      {"CBspheres_microfacet.dae", {}, authored(cb_spheres_microfacet)},
+      {"CBspheres_dof.dae", {}, authored(cb_spheres_dof)},
+      {"CBdragon_microfacet_au_0.005.dae", {"dragon_vrip.ply"},
+       [](MeshLibrary& lib) { return cb_dragon_gold(lib, 0.005, "CBdragon_microfacet_au_0.005.dae"); }},
+      {"CBdragon_microfacet_au_0.05.dae", {"dragon_vrip.ply"},
+       [](MeshLibrary& lib) { return cb_dragon_gold(lib, 0.05, "CBdragon_microfacet_au_0.05.dae"); }},
+      {"CBdragon_microfacet_au_0.25.dae", {"dragon_vrip.ply"},
+       [](MeshLibrary& lib) { return cb_dragon_gold(lib, 0.25, "CBdragon_microfacet_au_0.25.dae"); }},
+      {"CBdragon_microfacet_au_0.5.dae", {"dragon_vrip.ply"},
+       [](MeshLibrary& lib) { return cb_dragon_gold(lib, 0.5, "CBdragon_microfacet_au_0.5.dae"); }},
+      {"bunny_microfacet_envmap.dae", {"bunny00.off"}, bunny_microfacet_envmap},
   };
 }
 

@@ -22,6 +22,8 @@ namespace scenegen {
 const size_t kBunnyTriangles = 28576;
 const size_t kDragonTriangles = 100000;
 const size_t kLargeDragonTriangles = 200000;
+// The microfacet dragons' (four scenes of one mesh, each file a copy).
+const size_t kSmallDragonTriangles = 50000;
 // Each of the teapot's 32 patches becomes a 16 x 16 grid of quads.
 const int kTeapotSegments = 16;
 
@@ -39,13 +41,15 @@ class MeshLibrary {
     return *bunny_;
   }
   // The Stanford dragon: the full-resolution reconstruction (871,414
-  // triangles), welded and decimated to 200,000 and then 100,000 triangles.
+  // triangles), welded and decimated to 200,000, then 100,000, then 50,000
+  // triangles.
   const IndexedMesh& dragon(size_t triangles) {
     if (dragons_.empty()) {
-      std::vector<IndexedMesh> d =
-          decimate(closed_source("dragon_vrip.ply"), {kLargeDragonTriangles, kDragonTriangles});
+      std::vector<IndexedMesh> d = decimate(closed_source("dragon_vrip.ply"),
+                                            {kLargeDragonTriangles, kDragonTriangles, kSmallDragonTriangles});
       dragons_[kLargeDragonTriangles] = std::move(d[0]);
       dragons_[kDragonTriangles] = std::move(d[1]);
+      dragons_[kSmallDragonTriangles] = std::move(d[2]);
     }
     return dragons_.at(triangles);
   }

@@ -4,6 +4,7 @@
 #pragma once
 #include <string>
 
+#include "instructors/scene_generator/collada_writer.h"
 #include "instructors/scene_generator/mesh_library.h"
 #include "instructors/scene_generator/mesh_tools.h"
 #include "instructors/scene_generator/scene_model.h"
@@ -44,6 +45,43 @@ inline Scene cb_dragon(MeshLibrary& lib, size_t triangles, const std::string& fi
   place_on_floor(m, 0, 0, 1.4, 0.002);
   s.meshes.push_back(scene_mesh("dragon", "dragon", m, true));
   s.camera = course_camera(s, {0, 0, 1});
+  return s;
+}
+
+// Part 7: the dragon of CBdragon.dae, at 50,000 triangles, in gold of
+// roughness alpha.
+inline Scene cb_dragon_gold(MeshLibrary& lib, double alpha, const std::string& file) {
+  Scene s;
+  s.file = file;
+  s.purpose = "Cornell box with the CGL area light and the Stanford dragon (50,000 triangles) in gold, "
+              "microfacet alpha " + num(alpha);
+  add_cornell_box(s);
+  s.materials.push_back(gold("gold", alpha));
+  add_cornell_area_light(s);
+  IndexedMesh m = lib.dragon(kSmallDragonTriangles);
+  place_on_floor(m, 0, 0, 1.4, 0.002);
+  s.meshes.push_back(scene_mesh("dragon", "gold", m, true));
+  s.camera = course_camera(s, {0, 0, 1});
+  return s;
+}
+
+// Part 8: the bunny of CBbunny.dae in copper (alpha 0.1, as the course's
+// bunny_microfacet_cu_unlit.dae) on a 1.2 x 1.2 grey pedestal,
+// and no light: it is lit by the environment map given with -e
+// (sky_sun.exr).
+inline Scene bunny_microfacet_envmap(MeshLibrary& lib) {
+  Scene s;
+  s.file = "bunny_microfacet_envmap.dae";
+  s.purpose = "the Stanford bunny (28,576 triangles) in copper (microfacet alpha 0.1) on a grey pedestal, with no "
+              "light: render it with an environment map (-e)";
+  s.materials.push_back(diffuse("pedestal", {0.25, 0.25, 0.25}));
+  s.materials.push_back(copper("copper", 0.1));
+  s.meshes.push_back(quad("pedestal", "pedestal", {-0.6, 0, -0.6}, {0.6, 0, -0.6}, {0.6, 0, 0.6}, {-0.6, 0, 0.6},
+                          {0, -1, 0}));
+  IndexedMesh m = lib.bunny();
+  place_on_floor(m, 0, 1, 0.772, 0.002);
+  s.meshes.push_back(scene_mesh("bunny", "copper", m, true));
+  s.camera = course_camera(s, {0, 0.4, 1});
   return s;
 }
 

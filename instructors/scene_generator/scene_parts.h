@@ -36,6 +36,25 @@ inline Material diffuse(const std::string& name, Rgb albedo) {
   return m;
 }
 
+// Metals (CGL microfacet materials) of Beckmann roughness alpha. Gold: the
+// index of refraction and extinction coefficient at 610, 550 and 470 nm
+// (refractiveindex.info, Yakubovsky et al. 2017, a 117 nm film). Copper:
+// the values of the course's bunny_microfacet_cu_unlit.dae.
+inline Material metal(const std::string& name, double alpha, Rgb eta, Rgb k, Rgb look) {
+  Material m = diffuse(name, look);
+  m.kind = MaterialKind::Microfacet;
+  m.alpha = alpha;
+  m.eta = eta;
+  m.k = k;
+  return m;
+}
+inline Material gold(const std::string& name, double alpha) {
+  return metal(name, alpha, {0.1884, 0.3382, 1.347}, {3.278, 2.549, 1.832}, {0.8, 0.6, 0.2});
+}
+inline Material copper(const std::string& name, double alpha) {
+  return metal(name, alpha, {0.33228, 1.0162, 1.2474}, {3.1646, 2.5785, 2.4603}, {0.8, 0.5, 0.4});
+}
+
 // The axis-aligned bounds of all triangles and spheres (lights excluded),
 // exactly as the course's camera placement sees them.
 using Bounds = Box3;

@@ -16,7 +16,8 @@ Ray camera_sample_ray(const Camera& cam, int x, int y, bool jitter, Rng& rng) {
     dy = rng.uniform();
   }
   const double u = (x + dx) / cam.width, v = (y + dy) / cam.height;
-  return cam.lens_radius > 0 ? thin_lens_ray(cam, u, v, rng.uniform(), rng.uniform()) : generate_ray(cam, u, v);
+  if (cam.lens_radius > 0 && cam.thin_lens) return cam.thin_lens(cam, u, v, rng.uniform(), rng.uniform());
+  return generate_ray(cam, u, v);
   // END SOLUTION
 }
 

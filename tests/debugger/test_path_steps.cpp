@@ -286,7 +286,7 @@ TEST_CASE("record_path refuses absurd input with a one-line InputError", "[debug
   refused(good, 0, 0, 4, "sample index 4");
   refused(good, 0, 0, -1, "sample index -1");
   RenderOptions o = good;
-  o.part = 6;
+  o.part = kPartsBuilt + 1;
   refused(o, 0, 0, 0, "part");
   o.part = 0;
   refused(o, 0, 0, 0, "part");

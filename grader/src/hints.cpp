@@ -235,6 +235,26 @@ std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& cata
   return out;
 }
 
+std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseSignature& figures,
+                                       const Catalogue& catalogue, const CaseGroups& groups, int max_hints) {
+  if (!figures.failed) return {};
+  Catalogue one;
+  for (const KnownBug& bug : catalogue.bugs) {
+    const auto it = bug.cases.find(case_name);
+    if (it == bug.cases.end() || !it->second.failed) continue;
+    KnownBug b = bug;
+    b.cases = {{case_name, it->second}};
+    one.bugs.push_back(std::move(b));
+  }
+  const BuildSignature build = {{case_name, figures}};
+  std::vector<Hint> hints = likely_bugs(build, one, groups, max_hints);
+  // The texts point into `one`: re-point them at the caller's catalogue.
+  for (Hint& h : hints)
+    for (const KnownBug& bug : catalogue.bugs)
+      if (bug.name == h.bug->name) h.bug = &bug;
+  return hints;
+}
+
 std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
                                     const CaseGroups& groups) {
   const BuildSignature build = build_signature(results);

@@ -78,6 +78,12 @@ constexpr double kHintSpread = 0.2;
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
                               int max_hints = 3, const std::string& exclude = "");
 
+// Hints from one case alone (the viewer's difference overlay, `grader
+// compare`): the case's signature against each known bug's on that case
+// only; bugs that pass the case are not candidates.
+std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseSignature& figures,
+                                       const Catalogue& catalogue, const CaseGroups& groups, int max_hints = 3);
+
 // The report's lines: "Likely cause: ..." per hint, or one line saying
 // that nothing in the catalogue is close; nothing for a build that fails
 // nothing.

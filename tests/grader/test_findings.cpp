@@ -156,3 +156,14 @@ TEST_CASE("Hints: leave-one-out names the right function when another bug of it 
 TEST_CASE("The catalogue refuses a malformed file, naming it", "[grader]") {
   CHECK_THROWS_WITH(read_catalogue("/nonexistent/known_bugs.json"), Catch::Contains("/nonexistent/known_bugs.json"));
 }
+
+TEST_CASE("Hints from one case alone: only bugs that fail that case, nearest first", "[grader]") {
+  const Catalogue cat = catalogue();
+  const std::vector<Hint> hints =
+      likely_bugs_for_case("p4_m2", failing(1.8), cat, case_groups(kCases));
+  REQUIRE(!hints.empty());
+  CHECK(hints[0].bug->name == "emission_twice");
+  CHECK(hints[0].bug == &cat.bugs[0]);  // points into the caller's catalogue
+  for (const Hint& h : hints) CHECK(h.bug->name != "hemisphere_pdf");  // passes p4_m2
+  CHECK(likely_bugs_for_case("p4_m2", CaseSignature{}, cat, case_groups(kCases)).empty());  // a passing case
+}

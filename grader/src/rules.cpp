@@ -58,8 +58,16 @@ std::string case_method(const Case& c) {
     case 4:
       return std::string("path tracing with light sampling at every bounce") +
              (hemisphere ? " (-H)" : "");
-    default:
+    case 5:
       return "adaptive sampling with light sampling";
+    case 6:
+      return "path tracing through mirror and glass (one direction per delta bounce)";
+    case 7:
+      return "importance sampling of the microfacet BRDF's normal distribution";
+    case 8:
+      return "importance sampling of the environment map";
+    default:
+      return "the thin lens sampled uniformly over its disk";
   }
 }
 

@@ -615,7 +615,8 @@ TEST_CASE("a malformed case list: exit 2 and one line naming file:line, nothing 
   const Bad bad[] = {
       {"p1 1 image 2 20", "expected: name part kind points timeout scene [options...]"},
       {"p1 1 picture 2 20 good.dae", "unknown kind 'picture' (image, rate, speedup)"},
-      {"p1 7 image 2 20 good.dae", "part must be 1..5"},
+      {"p1 10 image 2 20 good.dae", "part must be 1..9"},
+      {"p1 0 image 2 20 good.dae", "part must be 1..9"},
       {"p1 1 image -2 20 good.dae", "points must be a number >= 0"},
       {"p1 1 image 2 0 good.dae", "timeout must be seconds > 0"},
       {"p1 1 image 2 abc good.dae", "timeout must be seconds > 0"},

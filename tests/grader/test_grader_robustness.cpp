@@ -14,6 +14,11 @@
 //
 // GRADER_UNDER_TEST, when set, names another grader binary to test (a build
 // with a planted bug, to see these tests fail).
+//
+// Every timeout here (the cases', the limit on a whole grader run, the wait
+// for a killed process to end) is multiplied by PT_TEST_TIMEOUT_SCALE
+// (README, "Tests"), given to the grader as --timeout-scale. The limits only
+// bound a failing run: a passing one ends as soon as what it checks happens.
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -25,6 +30,8 @@
 
 #include <catch2/catch.hpp>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -51,22 +58,24 @@ using pt::test::StrictJson;
 using pt::test::TempDir;
 
 constexpr double kPoints = 2;            // every test case is worth 2 points
-constexpr int kGraderTimeLimit = 30;     // s: a grader still running then has hung
+constexpr int kGraderTimeLimit = 120;    // s: a grader still running then has hung
+constexpr int kProcessEndLimit = 30;     // s: a killed process still there then has survived
 constexpr rlim_t kGraderAddressSpace = rlim_t(2) << 30;  // a memory bomb fails instead of swapping
 
 // The fake student's behaviours and what the grader must say about each.
 struct Mode {
   const char* name;
   bool passes;          // the render is correct (the case passes)
-  const char* message;  // part of the case's message (failures)
+  const char* message;  // part of the case's message (failures); {} is the timeout in s
   double timeout;       // the case's timeout (s)
   int part = 1;         // the case's part (from 2 on, costs are checked)
+  size_t processes = 0;  // the fake's processes that record themselves (FAKE_STUDENT_PIDS)
 };
 const Mode kModes[] = {
     {"good", true, "matches the reference", 20},
     {"crash", false, "crashed: killed by signal 11 (Segmentation fault)", 20},
-    {"hang", false, "timed out after 1 s (killed)", 1},
-    {"fork_hang", true, "matches the reference", 20},
+    {"hang", false, "timed out after {} s (killed)", 1, 1, 2},
+    {"fork_hang", true, "matches the reference", 20, 1, 3},
     {"garbage", false, "wrote no image (-f render.png)", 20},
     {"truncated_png", false, "unreadable PNG: ", 20},
     {"nan", false, "2 pixels are NaN or infinite (the first at x=3, y=2 from the top)", 20},
@@ -80,7 +89,9 @@ const Mode kModes[] = {
     {"fifo_stats", true, "matches the reference", 20},
     {"huge_pfm", false, "PFM data is truncated", 20},
     {"exit3", false, "exited with status 3", 20},
-    {"todo_hang", false, "Part 1 not implemented (TODO: generate_ray)", 60},
+    // Ten times the limit on the whole grader run: only stopping at the
+    // TODO line lets the run finish in time.
+    {"todo_hang", false, "Part 1 not implemented (TODO: generate_ray)", 10 * kGraderTimeLimit, 1, 1},
     {"todo_part2", true, "matches the reference", 20},
     {"negative_roundoff", true, "matches the reference", 20},
     {"negative", false, "1 pixel has negative radiance below -1e-4 (the first at x=5, y=6 from the top)", 20},
@@ -88,6 +99,31 @@ const Mode kModes[] = {
     {"costly_shadow", false, "100.0 intersection tests per shadow ray, more than 8x the reference's", 20, 2},
     {"uncounted", false, "no intersection tests counted", 20, 2},
 };
+
+// The scale of every timeout (tests/support.h), as the grader's --timeout-scale.
+double scale() {
+  static const double s = pt::test::timeout_scale();
+  return s;
+}
+
+std::string scale_arg(double s) {
+  std::ostringstream o;
+  o << s;
+  return o.str();
+}
+
+// A mode's message with the case's timeout, under the grader's --timeout-scale
+// `s`, in place of {}.
+std::string message_of(const Mode& m, double s) {
+  std::string text = m.message;
+  const size_t at = text.find("{}");
+  if (at != std::string::npos) {
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.0f", m.timeout * s);  // as the grader writes it
+    text.replace(at, 2, seconds);
+  }
+  return text;
+}
 
 std::string grader_exe() {
   const char* other = std::getenv("GRADER_UNDER_TEST");
@@ -127,7 +163,7 @@ JsonValue parse_json_file(const std::string& path) {
 // ---- Running programs ----
 
 struct Run {
-  bool finished = false;  // false: killed at kGraderTimeLimit (it hung)
+  bool finished = false;  // false: killed at kGraderTimeLimit times the scale (it hung)
   int exit_code = -1;     // when it exited
   int signal = 0;         // when a signal ended it
   std::string out, err;
@@ -139,7 +175,8 @@ struct Run {
 };
 
 // Runs argv (no shell) with `env` added to this process's environment, under
-// an address-space limit and an alarm that ends it after kGraderTimeLimit.
+// an address-space limit and an alarm that ends it after kGraderTimeLimit
+// times the scale.
 Run run_program(const std::vector<std::string>& argv, const std::vector<std::pair<std::string, std::string>>& env) {
   TempDir io;
   const std::string out_path = io.file("stdout"), err_path = io.file("stderr");
@@ -154,6 +191,7 @@ Run run_program(const std::vector<std::string>& argv, const std::vector<std::pai
   envp.push_back(nullptr);
 
   Run r;
+  const unsigned limit = unsigned(std::ceil(kGraderTimeLimit * scale()));
   const pid_t pid = fork();
   REQUIRE(pid >= 0);
   if (pid == 0) {
@@ -166,7 +204,7 @@ Run run_program(const std::vector<std::string>& argv, const std::vector<std::pai
     dup2(err, 2);
     const struct rlimit as = {kGraderAddressSpace, kGraderAddressSpace};
     setrlimit(RLIMIT_AS, &as);
-    alarm(kGraderTimeLimit);  // survives exec; SIGALRM ends the program
+    alarm(limit);  // survives exec; SIGALRM ends the program
     execve(args[0], args.data(), envp.data());
     _exit(127);
   }
@@ -184,7 +222,7 @@ Run run_program(const std::vector<std::string>& argv, const std::vector<std::pai
 // The grader ran to its end, by itself, with `code`.
 void check_finished(const Run& g, int code) {
   INFO(g.summary());
-  REQUIRE(g.finished);   // else the grader hung and was killed after kGraderTimeLimit s
+  REQUIRE(g.finished);   // else the grader hung and was killed after kGraderTimeLimit s (times the scale)
   CHECK(g.signal == 0);  // else the grader itself crashed
   CHECK(g.exit_code == code);
 }
@@ -242,16 +280,19 @@ bool ends_within(const Recorded& r, int seconds) {
   return ended;
 }
 
+// Kills whatever the fake student recorded in `path` and is still running.
+void kill_recorded(const std::string& path) {
+  for (const Recorded& r : read_recorded(path))
+    if (still_running(r)) kill(r.pid, SIGKILL);
+}
+
 // Kills, at the end of a test, whatever the fake student recorded and is
 // still running (only when a check has already failed), so that a failing
 // test leaves nothing behind.
 class KillLeftovers {
  public:
   explicit KillLeftovers(std::string path) : path_(std::move(path)) {}
-  ~KillLeftovers() {
-    for (const Recorded& r : read_recorded(path_))
-      if (still_running(r)) kill(r.pid, SIGKILL);
-  }
+  ~KillLeftovers() { kill_recorded(path_); }
 
  private:
   std::string path_;
@@ -285,7 +326,7 @@ class Sandbox {
   void make_references(const std::string& only = "") {
     std::vector<std::string> argv = {grader_exe(), "make-references", "--pathtracer", PT_PATHTRACER_EXE, "--runs", "2",
                                      "-j", "2", "--references", refs(), "--cases", cases(), "--scenes", scenes(),
-                                     "--work", path("work")};
+                                     "--work", path("work"), "--timeout-scale", scale_arg(scale())};
     if (!only.empty()) argv.insert(argv.end(), {"--case", only});
     const Run r = run_program(argv, {});
     INFO(r.summary());
@@ -293,11 +334,14 @@ class Sandbox {
     REQUIRE(r.exit_code == 0);
   }
 
-  // `grader run` of the fake student in `fake_mode` into `out`.
-  Run grade(const std::string& fake_mode, const std::string& out, const std::vector<std::string>& extra = {}) const {
+  // `grader run` of the fake student in `fake_mode` into `out`, the cases'
+  // timeouts multiplied by `timeout_scale`.
+  Run grade(const std::string& fake_mode, const std::string& out, const std::vector<std::string>& extra = {},
+            double timeout_scale = scale()) const {
     std::vector<std::string> argv = {grader_exe(), "run", "--pathtracer", FAKE_STUDENT_EXE, "--cases", cases(),
                                      "--references", refs(), "--scenes", scenes(), "-o", out, "-j", "2",
-                                     "--output-mb", "1", "--memory-mb", "512"};
+                                     "--output-mb", "1", "--memory-mb", "512", "--timeout-scale",
+                                     scale_arg(timeout_scale)};
     argv.insert(argv.end(), extra.begin(), extra.end());
     return run_program(argv, {{"FAKE_STUDENT_MODE", fake_mode},
                               {"FAKE_STUDENT_MEAN", refs() + "/" + first_ + "/mean.pfm"},
@@ -348,21 +392,49 @@ const JsonValue& test_named(const JsonValue& results, const std::string& name) {
   throw std::logic_error("unreachable");
 }
 
-// The case graded in `out` got the verdict its mode calls for.
-void check_case(const JsonValue& results, const std::string& out, const Mode& m) {
+// The case graded in `out` (with --timeout-scale `timeout_scale`) got the
+// verdict its mode calls for.
+void check_case(const JsonValue& results, const std::string& out, const Mode& m, double timeout_scale) {
   INFO("case " << m.name);
+  const std::string message = message_of(m, timeout_scale);
   const JsonValue& t = test_named(results, m.name);
   const std::string& output = t.at("output").string;
   INFO("output: " << output);
   CHECK(t.at("status").string == (m.passes ? "passed" : "failed"));
   CHECK(t.at("score").number == (m.passes ? kPoints : 0));
   CHECK_THAT(output, StartsWith(m.passes ? "passed: " : "failed: "));
-  CHECK_THAT(output, Contains(m.message));
+  CHECK_THAT(output, Contains(message));
   const JsonValue c = parse_json_file(out + "/cases/" + m.name + "/result.json");
   CHECK(c.at("verdict").string == (m.passes ? "passed" : "failed"));
-  CHECK_THAT(c.at("message").string, Contains(m.message));
+  CHECK_THAT(c.at("message").string, Contains(message));
 }
 
+// Grades the fake student in `fake_mode` into `out` so that the `processes`
+// of it that record themselves had all started when the grader stopped it.
+// A hang mode's timeout (1 s) is short so that the test is; on a machine too
+// busy to start the fake's processes within it, the run shows nothing about
+// the grader, and it is made again with the timeouts doubled (at most three
+// times more; a grader that stops the fake too early fails every time).
+// Returns the run; *used_scale is the --timeout-scale it had.
+Run grade_once_started(const Sandbox& sb, const std::string& fake_mode, const std::string& out, size_t processes,
+                       double* used_scale) {
+  double s = scale();
+  for (int attempt = 0;; ++attempt) {
+    kill_recorded(sb.pids());
+    std::error_code ec;
+    fs::remove(sb.pids(), ec);
+    fs::remove_all(out, ec);
+    Run g = sb.grade(fake_mode, out, {}, s);
+    if (read_recorded(sb.pids()).size() >= processes || attempt == 3) {
+      *used_scale = s;
+      return g;
+    }
+    WARN("the fake student's processes had not all started when the grader stopped it (a busy machine): "
+         "graded again with --timeout-scale "
+         << 2 * s);
+    s *= 2;
+  }
+}
 // Grades the fake student in one mode on a case of its own: the run ends by
 // itself with exit code 1 (0 for a passing mode), every report is complete
 // and the case has the mode's verdict and message. Returns results.json.
@@ -371,11 +443,12 @@ JsonValue grade_one_mode(Sandbox& sb, const std::string& name) {
   sb.add_case(m.name, m.timeout, m.part);
   sb.make_references();
   const std::string out = sb.path("out");
-  const Run g = sb.grade(m.name, out);
+  double used_scale = 1;
+  const Run g = grade_once_started(sb, m.name, out, m.processes, &used_scale);
   check_finished(g, m.passes ? 0 : 1);
   CHECK(g.err == "");  // the grader reported no error of its own
   const JsonValue results = check_reports(out, {m.name});
-  check_case(results, out, m);
+  check_case(results, out, m, used_scale);
   CHECK(results.at("score").number == (m.passes ? kPoints : 0));
   return results;
 }
@@ -383,9 +456,10 @@ JsonValue grade_one_mode(Sandbox& sb, const std::string& name) {
 void check_no_survivors(const std::string& pids_file, size_t expected) {
   const std::vector<Recorded> recorded = read_recorded(pids_file);
   REQUIRE(recorded.size() == expected);  // every process of the fake said it was there
+  const int limit = int(std::ceil(kProcessEndLimit * scale()));
   for (const Recorded& r : recorded) {
     INFO("process " << r.pid << " of the fake student outlived the grader run");
-    CHECK(ends_within(r, 3));
+    CHECK(ends_within(r, limit));
   }
 }
 
@@ -499,8 +573,9 @@ TEST_CASE("exit3: failed, the exit status and the student's stderr reported") {
 }
 
 
-// The case's timeout (60 s) is beyond the test's limit on the whole grader
-// run (30 s): only stopping the render at its TODO line lets it finish.
+// The case's timeout (1200 s) is ten times the test's limit on the whole
+// grader run (120 s; both times the scale): only stopping the render at its
+// TODO line lets it finish.
 TEST_CASE("todo_hang: stopped at its TODO line, failed as 'Part 1 not implemented', not at the timeout") {
   Sandbox sb;
   grade_one_mode(sb, "todo_hang");
@@ -531,20 +606,24 @@ TEST_CASE("every mode in one run with -j 2: each case judged on its own, every r
   Sandbox sb;
   std::vector<std::string> names;
   double expected_total = 0;
+  size_t processes = 0;
   for (const Mode& m : kModes) {
     sb.add_case(m.name, m.timeout, m.part);
     names.push_back(m.name);
     expected_total += m.passes ? kPoints : 0;
+    processes += m.processes;
   }
+  REQUIRE(processes == 2 + 3 + 1);  // hang's two, fork_hang's three, todo_hang's one
   sb.make_references();
   const std::string out = sb.path("out");
-  const Run g = sb.grade("by_scene", out);
+  double used_scale = 1;
+  const Run g = grade_once_started(sb, "by_scene", out, processes, &used_scale);
   check_finished(g, 1);
   CHECK(g.err == "");
   const JsonValue results = check_reports(out, names);
-  for (const Mode& m : kModes) check_case(results, out, m);
+  for (const Mode& m : kModes) check_case(results, out, m, used_scale);
   CHECK(results.at("score").number == expected_total);
-  check_no_survivors(sb.pids(), 2 + 3 + 1);  // hang's two, fork_hang's three, todo_hang's one
+  check_no_survivors(sb.pids(), processes);
 }
 
 // ---- Shards ----

@@ -19,56 +19,35 @@
 // for a killed process to end) is multiplied by PT_TEST_TIMEOUT_SCALE
 // (README, "Tests"), given to the grader as --timeout-scale. The limits only
 // bound a failing run: a passing one ends as soon as what it checks happens.
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
-#include <sys/syscall.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <catch2/catch.hpp>
-#include <cerrno>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
-#include <utility>
 #include <vector>
 
-#include "tests/grader/strict_json.h"
 #include "common/image_io.h"
+#include "tests/grader/grading_sandbox.h"
 #include "tests/support.h"
-
-extern char** environ;
 
 namespace {
 
 namespace fs = std::filesystem;
+using namespace pt::test::grading;
 using Catch::Matchers::Contains;
 using Catch::Matchers::EndsWith;
 using Catch::Matchers::StartsWith;
 using pt::test::JsonValue;
-using pt::test::StrictJson;
-using pt::test::TempDir;
-
-constexpr double kPoints = 2;            // every test case is worth 2 points
-constexpr int kGraderTimeLimit = 120;    // s: a grader still running then has hung
-constexpr int kProcessEndLimit = 30;     // s: a killed process still there then has survived
-constexpr rlim_t kGraderAddressSpace = rlim_t(2) << 30;  // a memory bomb fails instead of swapping
 
 // The fake student's behaviours and what the grader must say about each.
 struct Mode {
   const char* name;
-  bool passes;          // the render is correct (the case passes)
-  const char* message;  // part of the case's message (failures); {} is the timeout in s
-  double timeout;       // the case's timeout (s)
-  int part = 1;         // the case's part (from 2 on, costs are checked)
+  bool passes;           // the render is correct (the case passes)
+  const char* message;   // part of the case's message (failures); {} is the timeout in s
+  double timeout;        // the case's timeout (s)
+  int part = 1;          // the case's part (from 2 on, costs are checked)
   size_t processes = 0;  // the fake's processes that record themselves (FAKE_STUDENT_PIDS)
 };
 const Mode kModes[] = {
@@ -100,18 +79,6 @@ const Mode kModes[] = {
     {"uncounted", false, "no intersection tests counted", 20, 2},
 };
 
-// The scale of every timeout (tests/support.h), as the grader's --timeout-scale.
-double scale() {
-  static const double s = pt::test::timeout_scale();
-  return s;
-}
-
-std::string scale_arg(double s) {
-  std::ostringstream o;
-  o << s;
-  return o.str();
-}
-
 // A mode's message with the case's timeout, under the grader's --timeout-scale
 // `s`, in place of {}.
 std::string message_of(const Mode& m, double s) {
@@ -125,271 +92,10 @@ std::string message_of(const Mode& m, double s) {
   return text;
 }
 
-std::string grader_exe() {
-  const char* other = std::getenv("GRADER_UNDER_TEST");
-  return other && *other ? other : GRADER_EXE;
-}
-
 const Mode& mode(const std::string& name) {
   for (const Mode& m : kModes)
     if (name == m.name) return m;
   throw std::runtime_error("no mode " + name);
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-int count_lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
-
-JsonValue parse_json_file(const std::string& path) {
-  INFO("file: " << path);
-  REQUIRE(fs::exists(path));
-  try {
-    return StrictJson::parse(slurp(path));
-  } catch (const std::exception& e) {
-    FAIL(path << " is not valid JSON: " << e.what());
-  }
-  return {};
-}
-
-// ---- Running programs ----
-
-struct Run {
-  bool finished = false;  // false: killed at kGraderTimeLimit times the scale (it hung)
-  int exit_code = -1;     // when it exited
-  int signal = 0;         // when a signal ended it
-  std::string out, err;
-  std::string summary() const {
-    const auto cut = [](const std::string& s) { return s.size() > 3000 ? s.substr(0, 3000) + "..." : s; };
-    return "exit " + std::to_string(exit_code) + ", signal " + std::to_string(signal) + "\n[stdout]\n" + cut(out) +
-           "\n[stderr]\n" + cut(err);
-  }
-};
-
-// Runs argv (no shell) with `env` added to this process's environment, under
-// an address-space limit and an alarm that ends it after kGraderTimeLimit
-// times the scale.
-Run run_program(const std::vector<std::string>& argv, const std::vector<std::pair<std::string, std::string>>& env) {
-  TempDir io;
-  const std::string out_path = io.file("stdout"), err_path = io.file("stderr");
-  std::vector<std::string> env_s;
-  for (char** e = environ; *e; ++e)
-    if (std::string(*e).rfind("FAKE_STUDENT_", 0) != 0) env_s.push_back(*e);
-  for (const auto& [k, v] : env) env_s.push_back(k + "=" + v);
-  std::vector<char*> args, envp;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  for (const std::string& e : env_s) envp.push_back(const_cast<char*>(e.c_str()));
-  envp.push_back(nullptr);
-
-  Run r;
-  const unsigned limit = unsigned(std::ceil(kGraderTimeLimit * scale()));
-  const pid_t pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    const int in = open("/dev/null", O_RDONLY);
-    const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (in < 0 || out < 0 || err < 0) _exit(126);
-    dup2(in, 0);
-    dup2(out, 1);
-    dup2(err, 2);
-    const struct rlimit as = {kGraderAddressSpace, kGraderAddressSpace};
-    setrlimit(RLIMIT_AS, &as);
-    alarm(limit);  // survives exec; SIGALRM ends the program
-    execve(args[0], args.data(), envp.data());
-    _exit(127);
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  r.finished = !(WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM);
-  if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
-  r.out = slurp(out_path);
-  r.err = slurp(err_path);
-  return r;
-}
-
-// The grader ran to its end, by itself, with `code`.
-void check_finished(const Run& g, int code) {
-  INFO(g.summary());
-  REQUIRE(g.finished);   // else the grader hung and was killed after kGraderTimeLimit s (times the scale)
-  CHECK(g.signal == 0);  // else the grader itself crashed
-  CHECK(g.exit_code == code);
-}
-
-// ---- Processes the fake student leaves behind ----
-
-struct Recorded {
-  pid_t pid = 0;
-  std::string start_time;  // field 22 of /proc/<pid>/stat
-};
-
-std::vector<Recorded> read_recorded(const std::string& path) {
-  std::vector<Recorded> v;
-  std::ifstream in(path);
-  for (Recorded r; in >> r.pid >> r.start_time;) v.push_back(r);
-  return v;
-}
-
-// The recorded process as it is now: "" when gone (or the pid belongs to
-// another process since), else its state letter (Z: a zombie, exited).
-std::string state_of(const Recorded& r) {
-  std::ifstream in("/proc/" + std::to_string(r.pid) + "/stat");
-  if (!in) return "";
-  const std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const size_t paren = stat.rfind(')');
-  if (paren == std::string::npos) return "";
-  std::istringstream rest(stat.substr(paren + 2));
-  std::string state, field;
-  rest >> state;
-  for (int i = 4; i <= 22 && (rest >> field); ++i) {
-  }
-  return field == r.start_time ? state : "";
-}
-
-bool still_running(const Recorded& r) {
-  const std::string state = state_of(r);
-  return !state.empty() && state != "Z" && state != "X";
-}
-
-// True when the recorded process has ended, or ends within `seconds` (the
-// grader's SIGKILL is queued when it returns, but a process dies on its own
-// schedule): waits on a pidfd, which is readable once the process exits.
-bool ends_within(const Recorded& r, int seconds) {
-  const int fd = int(syscall(SYS_pidfd_open, r.pid, 0));
-  if (fd < 0) return true;  // no such process
-  bool ended = !still_running(r);  // checked after the pidfd pins the pid
-  if (!ended) {
-    struct pollfd p = {fd, POLLIN, 0};
-    int n;
-    while ((n = poll(&p, 1, seconds * 1000)) < 0 && errno == EINTR) {
-    }
-    ended = n == 1;
-  }
-  close(fd);
-  return ended;
-}
-
-// Kills whatever the fake student recorded in `path` and is still running.
-void kill_recorded(const std::string& path) {
-  for (const Recorded& r : read_recorded(path))
-    if (still_running(r)) kill(r.pid, SIGKILL);
-}
-
-// Kills, at the end of a test, whatever the fake student recorded and is
-// still running (only when a check has already failed), so that a failing
-// test leaves nothing behind.
-class KillLeftovers {
- public:
-  explicit KillLeftovers(std::string path) : path_(std::move(path)) {}
-  ~KillLeftovers() { kill_recorded(path_); }
-
- private:
-  std::string path_;
-};
-
-// ---- A grading sandbox: scenes, case list, references ----
-
-class Sandbox {
- public:
-  Sandbox() : leftovers_(pids()) { fs::create_directories(scenes()); }
-
-  std::string path(const std::string& name) const { return tmp_.file(name); }
-  std::string scenes() const { return path("scenes"); }
-  std::string cases() const { return path("cases.txt"); }
-  std::string refs() const { return path("refs"); }
-  std::string pids() const { return path("pids.txt"); }
-
-  // A case `name` (1 image, kPoints points) rendering `name`.dae, a copy of
-  // the project's CBempty.dae, at 16 x 12 with part 1.
-  void add_case(const std::string& name, double timeout, int part = 1) {
-    fs::copy_file(pt::test::project_scene("CBempty.dae"), scenes() + "/" + name + ".dae",
-                  fs::copy_options::overwrite_existing);
-    std::ostringstream line;
-    line << name << " " << part << " image " << kPoints << " " << timeout << " " << name << ".dae -r 16 12\n";
-    lines_ += line.str();
-    if (first_.empty()) first_ = name;
-    pt::test::write_text(cases(), "# Robustness cases\n" + lines_);
-  }
-
-  // References for every case (or only `only`) with the real pathtracer.
-  void make_references(const std::string& only = "") {
-    std::vector<std::string> argv = {grader_exe(), "make-references", "--pathtracer", PT_PATHTRACER_EXE, "--runs", "2",
-                                     "-j", "2", "--references", refs(), "--cases", cases(), "--scenes", scenes(),
-                                     "--work", path("work"), "--timeout-scale", scale_arg(scale())};
-    if (!only.empty()) argv.insert(argv.end(), {"--case", only});
-    const Run r = run_program(argv, {});
-    INFO(r.summary());
-    REQUIRE(r.finished);
-    REQUIRE(r.exit_code == 0);
-  }
-
-  // `grader run` of the fake student in `fake_mode` into `out`, the cases'
-  // timeouts multiplied by `timeout_scale`.
-  Run grade(const std::string& fake_mode, const std::string& out, const std::vector<std::string>& extra = {},
-            double timeout_scale = scale()) const {
-    std::vector<std::string> argv = {grader_exe(), "run", "--pathtracer", FAKE_STUDENT_EXE, "--cases", cases(),
-                                     "--references", refs(), "--scenes", scenes(), "-o", out, "-j", "2",
-                                     "--output-mb", "1", "--memory-mb", "512", "--timeout-scale",
-                                     scale_arg(timeout_scale)};
-    argv.insert(argv.end(), extra.begin(), extra.end());
-    return run_program(argv, {{"FAKE_STUDENT_MODE", fake_mode},
-                              {"FAKE_STUDENT_MEAN", refs() + "/" + first_ + "/mean.pfm"},
-                              {"FAKE_STUDENT_PIDS", pids()}});
-  }
-
- private:
-  TempDir tmp_;
-  KillLeftovers leftovers_;
-  std::string lines_, first_;
-};
-
-// Every report of a finished run is there and complete, with `names` in this
-// order; returns results.json (Gradescope's format, checked strictly).
-// `per_case`: the cases' own result.json too (`run` writes them, `merge`
-// reads them from the shards).
-JsonValue check_reports(const std::string& out, const std::vector<std::string>& names, bool per_case = true) {
-  const std::string txt = slurp(out + "/report.txt"), timing = slurp(out + "/timing.md"),
-                    html = slurp(out + "/report.html");
-  CHECK_THAT(txt, Contains("cases passed; score"));
-  CHECK_THAT(timing, StartsWith("# Timing"));
-  CHECK_THAT(html, StartsWith("<!DOCTYPE html>"));
-  CHECK_THAT(html, EndsWith("</html>\n"));
-  for (const std::string& n : names) {
-    INFO("case " << n);
-    CHECK_THAT(txt, Contains(" " + n + " "));
-    CHECK_THAT(timing, Contains("| " + n + " |"));
-    CHECK_THAT(html, Contains("id=\"" + n + "\""));
-    if (per_case) CHECK(parse_json_file(out + "/cases/" + n + "/result.json").at("name").string == n);
-  }
-  const JsonValue results = parse_json_file(out + "/results.json");
-  const auto& tests = results.at("tests").array;
-  REQUIRE(tests.size() == names.size());
-  double sum = 0;
-  for (size_t i = 0; i < tests.size(); ++i) {
-    CHECK_THAT(tests[i].at("name").string, StartsWith("Part ") && EndsWith(": " + names[i]));
-    CHECK(tests[i].at("max_score").number == kPoints);
-    sum += tests[i].at("score").number;
-  }
-  CHECK(results.at("score").number == Approx(sum));
-  return results;
-}
-
-const JsonValue& test_named(const JsonValue& results, const std::string& name) {
-  for (const JsonValue& t : results.at("tests").array)
-    if (EndsWith(": " + name).match(t.at("name").string)) return t;
-  FAIL("no test named " << name << " in results.json");
-  throw std::logic_error("unreachable");
 }
 
 // The case graded in `out` (with --timeout-scale `timeout_scale`) got the
@@ -430,8 +136,7 @@ Run grade_once_started(const Sandbox& sb, const std::string& fake_mode, const st
       return g;
     }
     WARN("the fake student's processes had not all started when the grader stopped it (a busy machine): "
-         "graded again with --timeout-scale "
-         << 2 * s);
+         "graded again with --timeout-scale " << 2 * s);
     s *= 2;
   }
 }

@@ -142,19 +142,3 @@ void Camera::load_settings(const std::string& path) {
 }
 
 }  // namespace pt
-
-namespace pt {
-
-Ray thin_lens_ray(const Camera& cam, double x, double y, double u1, double u2) {
-  const double sx = (2 * x - 1) * std::tan(rad(cam.hfov_deg) / 2);
-  const double sy = (2 * y - 1) * std::tan(rad(cam.vfov_deg) / 2);
-  const Vec3d pinhole_dir = normalize(Vec3d(sx, sy, -1));
-  // Point on the plane of focus (z = -focal_distance in camera space).
-  const Vec3d focus = pinhole_dir * (cam.focal_distance / -pinhole_dir.z);
-  const double r = cam.lens_radius * std::sqrt(u1), phi = 2 * kPiDouble * u2;
-  const Vec3d lens(r * std::cos(phi), r * std::sin(phi), 0);
-  const Vec3d d = normalize(cam.to_world(focus - lens));
-  return Ray(Vec3(cam.position + cam.to_world(lens)), Vec3(d), float(cam.near_clip), float(cam.far_clip));
-}
-
-}  // namespace pt

@@ -1,6 +1,8 @@
 // The pinhole (optionally thin-lens) camera and the course's rules for
-// placing it and fitting its field of view. Ray generation itself is Part 1
-// student code (stages/part1_raytracing/camera_rays.cpp).
+// placing it and fitting its field of view. Ray generation itself is
+// student code: the pinhole's in Part 1 (stages/part1_raytracing/
+// camera_rays.cpp), the thin lens's in Part 9
+// (stages/part9_depth_of_field/thin_lens.cpp).
 #pragma once
 #include <string>
 
@@ -8,6 +10,8 @@
 #include "common/vec3.h"
 
 namespace pt {
+
+struct Ray;  // common/ray.h
 
 // The full field of view (degrees) across one side of a frame, from the
 // full field of view across the other side and the ratio of the sides
@@ -35,6 +39,12 @@ struct Camera {
   // Thin lens (-b, -d). A lens radius of 0 is a pinhole.
   double lens_radius = 0.0;
   double focal_distance = 4.7;
+  // The thin lens's ray through normalised image point (x, y) with lens
+  // sample (u1, u2) in [0, 1)^2: part 9's generate_ray_for_thin_lens, set
+  // by the render for --part 9 and later. Until then (null) the camera is
+  // a pinhole whatever lens_radius says, as before the course's part 4 of
+  // 3-2.
+  Ray (*thin_lens)(const Camera& cam, double x, double y, double u1, double u2) = nullptr;
 
   int width = 800, height = 600;  // image size in pixels
 
@@ -69,14 +79,3 @@ struct Camera {
 
 }  // namespace pt
 
-#include "common/ray.h"
-
-namespace pt {
-
-// A thin-lens camera ray through normalised image point (x, y) with lens
-// sample (u1, u2) in [0,1)^2: origin on the lens disk of radius
-// lens_radius, aimed at the point the pinhole ray meets the plane of focus
-// at focal_distance. Used when -b > 0 (not part of the five parts).
-Ray thin_lens_ray(const Camera& cam, double x, double y, double u1, double u2);
-
-}  // namespace pt

@@ -223,12 +223,27 @@ void check_header(const std::string& path, uint64_t file_size, int64_t* width, i
 
 }  // namespace
 
+void direction_to_angles(const Vec3& d, float* theta, float* phi) {
+  *theta = std::acos(std::fmax(-1.0f, std::fmin(1.0f, d.y)));
+  *phi = std::atan2(-d.z, d.x) + kPi;  // [0, 2 pi]
+}
+
+Vec3 angles_to_direction(float theta, float phi) {
+  const float s = std::sin(theta);
+  return Vec3(-std::cos(phi) * s, std::cos(theta), std::sin(phi) * s);
+}
+
+void EnvironmentMap::texel_of(const Vec3& d, int* x, int* y) const {
+  float theta = 0, phi = 0;
+  direction_to_angles(d, &theta, &phi);
+  *x = texel_index(phi / (2 * kPi) * float(width), width);
+  *y = texel_index(theta / kPi * float(height), height);
+}
+
 Color EnvironmentMap::lookup(const Vec3& d) const {
   if (texels.empty()) return Color(0.0f);
-  const float theta = std::acos(std::fmax(-1.0f, std::fmin(1.0f, d.y)));
-  const float phi = std::atan2(d.x, -d.z);  // [-pi, pi]
-  const int x = texel_index((phi + kPi) / (2 * kPi) * float(width), width);
-  const int y = texel_index(theta / kPi * float(height), height);
+  int x = 0, y = 0;
+  texel_of(d, &x, &y);
   return texels[size_t(y) * size_t(width) + size_t(x)];
 }
 

@@ -60,7 +60,7 @@ std::vector<uint8_t> to_png_bytes(const ImageBuffer& img) {
   return rgb;
 }
 
-static std::vector<uint8_t> encode_png_rgb(const std::vector<uint8_t>& rgb, int w, int h) {
+std::vector<uint8_t> encode_png_rgb(const std::vector<uint8_t>& rgb, int w, int h) {
   std::vector<uint8_t> png;
   const unsigned err = lodepng::encode(png, rgb, unsigned(w), unsigned(h), LCT_RGB, 8);
   if (err) throw std::runtime_error(std::string("PNG encoding failed: ") + lodepng_error_text(err));

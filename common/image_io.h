@@ -24,6 +24,8 @@ std::string rate_image_path(const std::string& png_path);
 
 // 8-bit RGB bytes of `img`, top row first.
 std::vector<uint8_t> to_png_bytes(const ImageBuffer& img);
+// Those bytes (w x h, top row first) as a PNG file's.
+std::vector<uint8_t> encode_png_rgb(const std::vector<uint8_t>& rgb, int w, int h);
 
 // The files' bytes: an 8-bit PNG, the sample-rate PNG (rate = samples /
 // max_samples per pixel), and a little-endian colour PFM.

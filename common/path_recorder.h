@@ -1,13 +1,16 @@
 // Recording one path for the path inspector (viewer/debugger).
 //
 // The inspector watches a replayed sample through the interfaces a part's
-// code has to use: it wraps the geometry (every ray query), follows the
-// sample's random numbers, and re-evaluates the given sampling functions
-// (sample_light, bsdf_sample_f) on the numbers drawn. What it cannot see
-// that way, the given code reports through the hooks below: each bounce's
-// direct-light estimate (one_bounce_radiance), the radiance seen directly
-// (the zero bounce) and each TODO stub reached. The hooks sit in given
-// code, never in a solution region, so a student's build is watched too.
+// code has to use: it wraps the geometry (every ray query) and follows the
+// sample's random numbers. What it cannot see that way, the given code
+// reports through the hooks below: each call of sample_light with its
+// numbers and result, each bounce's direct-light estimate
+// (one_bounce_radiance), the radiance seen directly (the zero bounce) and
+// each TODO stub reached. The hooks sit in given code, never in a solution
+// region, so a student's build is watched too, and what is shown is what
+// the build did. (A BSDF sample is known by its bounce ray, whose
+// direction is bsdf_sample_f's for the numbers drawn before it, bit for
+// bit: a hook in bsdf_sample_f cost 2 % of a render's time.)
 //
 // Nothing is recorded unless a PathRecorder is installed on the calling
 // thread: a normal render pays one thread-local test per hook (a handful
@@ -17,11 +20,18 @@
 
 namespace pt {
 
+struct Light;
+struct LightSample;
+
 // Receives the events of the calling thread while installed. Every method
 // does nothing by default.
 class PathRecorder {
  public:
   virtual ~PathRecorder() = default;
+  // sample_light(light, p, u1, u2) returned `s`.
+  virtual void on_light_sample(const Light& /*light*/, const Vec3& /*p*/, float /*u1*/, float /*u2*/,
+                               const LightSample& /*s*/) {}
+
   // one_bounce_radiance at `hit` of `r` begins / returns L.
   virtual void on_direct_begin(const Ray& /*r*/, const Hit& /*hit*/) {}
   virtual void on_direct_end(const Color& /*L*/) {}
@@ -60,6 +70,7 @@ namespace detail {
 [[gnu::cold]] void report_direct_begin(const Ray& r, const Hit& hit);
 [[gnu::cold]] void report_direct_end(const Color& L);
 [[gnu::cold]] void report_zero_bounce(const Color& L);
+[[gnu::cold]] void report_light_sample(const Light& light, const Vec3& p, float u1, float u2, const LightSample& s);
 }  // namespace detail
 
 // The hooks the given code calls.
@@ -76,5 +87,9 @@ inline Color record_zero_bounce(const Color& L) {
   if (recording_path()) detail::report_zero_bounce(L);
   return L;
 }
+inline void record_light_sample(const Light& light, const Vec3& p, float u1, float u2, const LightSample& s) {
+  if (recording_path()) detail::report_light_sample(light, p, u1, u2, s);
+}
+
 
 }  // namespace pt

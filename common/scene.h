@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "common/bbox.h"
 #include <memory>
 
+#include "common/bbox.h"
 #include "common/camera.h"
 #include "common/environment.h"
 #include "common/vec3.h"
@@ -33,10 +33,14 @@ struct Sphere {
   BBox bounds() const { return BBox(center - Vec3(radius), center + Vec3(radius)); }
 };
 
-// Every material the course's scene files can name. Only diffuse and
-// emission are rendered by the five parts; the others are parsed and kept so
-// that scenes load unchanged (they shade as diffuse, see docs/differences.md).
+// Every material the course's scene files can name. Diffuse and emission
+// are given; mirror, glass and refraction are part 6's BSDFs, microfacet
+// part 7's (until their part is rendered they reflect nothing, as in the
+// course's starter code; see common/bsdf.h).
 enum class MaterialType { Diffuse, Emission, Mirror, Glass, Refraction, Microfacet };
+
+struct BSDFModel;   // common/bsdf.h
+class EnvironmentSampler;  // common/lights.h
 
 const char* to_string(MaterialType t);
 
@@ -52,6 +56,11 @@ struct Material {
   float alpha = 0.5f;         // microfacet roughness
   Color eta{1.0f};            // microfacet (conductor) index of refraction
   Color k{0.0f};              // microfacet absorption
+
+  // The BSDF the lighting code evaluates for this material (common/bsdf.h):
+  // set per render to the model of the part that writes it; none means the
+  // given default of its type (diffuse; black for a later part's type).
+  const BSDFModel* model = nullptr;
 
   bool is_emissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
@@ -73,8 +82,11 @@ struct Light {
   Vec3 direction;
   Vec3 dim_x, dim_y;
 
-  // Environment light (-e): the map of radiance from every direction.
+  // Environment light (-e): the map of radiance from every direction, and
+  // how it is sampled: none = uniformly over the sphere (given); part 8's
+  // importance sampling when the render sets one (common/lights.h).
   std::shared_ptr<const EnvironmentMap> environment;
+  std::shared_ptr<const EnvironmentSampler> sampler;
 
   // COLLADA point-light attenuation 1 / (c + l d + q d^2).
   float constant_attenuation = 1.0f;

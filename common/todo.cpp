@@ -40,6 +40,21 @@ std::string from_root(const char* file) {
 
 }  // namespace
 
+// The linker's bounds of the section the PT_TODO lines fill (weak: a
+// program without a stub has no such section).
+extern "C" {
+extern const TodoSite __start_pt_todo_sites[] __attribute__((weak));
+extern const TodoSite __stop_pt_todo_sites[] __attribute__((weak));
+}
+
+std::vector<TodoSite> todo_sites() {
+  std::vector<TodoSite> out;
+  if (!__start_pt_todo_sites || !__stop_pt_todo_sites) return out;
+  for (const TodoSite* s = __start_pt_todo_sites; s < __stop_pt_todo_sites; ++s)
+    if (s->part >= 1 && s->name) out.push_back(*s);
+  return out;
+}
+
 std::string todo_message(int part, const char* name, const char* file, const char* note) {
   std::string s = "Part " + std::to_string(part) + ": " + name + " (" + from_root(file) + ")";
   if (note && *note) s += std::string("; ") + note;

@@ -81,4 +81,7 @@ using Color = Vec3;
 // Illuminance (luminance weights used by the course for adaptive sampling).
 inline float illum(const Color& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
+// Whether a colour is exactly zero in every channel (no light at all).
+inline bool is_black(const Color& c) { return c.x == 0 && c.y == 0 && c.z == 0; }
+
 }  // namespace pt

@@ -131,8 +131,8 @@ void add_flags(CLI::App& app, RenderOptions* o, RawFlags* raw) {
   app.add_flag("-H", o->hemisphere_sampling, "Direct lighting by uniform hemisphere sampling");
   app.add_option("-p", raw->cell, "Render only the cell [X,X+DX) x [Y,Y+DY), (0,0) bottom-left")
       ->expected(4)->type_name("X Y DX DY");
-  app.add_option("--part", o->part, "Render what the assignment gives after part N (1-5)")
-      ->check(CLI::Range(1, 5))->default_val(kPartsBuilt);
+  app.add_option("--part", o->part, "Render what the assignment gives after part N (1-9)")
+      ->check(CLI::Range(1, kPartsBuilt))->default_val(kPartsBuilt);
   app.add_option("--seed", raw->seed_text, "Image seed, 0 to 2^64-1 (renders are reproducible for a given seed)")
       ->type_name("N");
   app.add_option("--pfm", o->output_pfm, "Also write linear radiance to this PFM file");

@@ -20,6 +20,7 @@
 #include "stages/part1_raytracing/pixel_sampling.h"
 #include "pathtracer/radiance.h"
 #include "common/render_loop.h"
+#include "stages/part9_depth_of_field/thin_lens.h"
 
 namespace pt {
 
@@ -43,11 +44,12 @@ void configure_camera(Camera& cam, const RenderOptions& opts) {
   cam.height = opts.height;
   if (opts.lens_radius_set) cam.lens_radius = opts.lens_radius;
   if (opts.focal_distance_set) cam.focal_distance = opts.focal_distance;
+  // -b needs the thin lens of part 9; before, the camera is a pinhole.
+  cam.thin_lens = opts.part >= 9 ? generate_ray_for_thin_lens : nullptr;
 }
 
-RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
-                          const std::function<void(const RenderResult&)>& before_render,
-                          const std::function<void(int x, int y)>& after_pixel, RenderCache* cache) {
+RenderResult render_scene(const Scene& scene, const RenderOptions& opts, const RenderHooks& hooks,
+                          RenderCache* cache) {
   RenderResult result;
   ImageBuffer& img = result.image;
   const Camera& cam = scene.camera;
@@ -84,13 +86,14 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
 
   // Part 3: emission plus one bounce of direct light. Parts 4 and 5: paths
   // of up to -m bounces with Russian roulette (radiance.h).
-  const RadianceFn radiance = part_radiance(scene, isect, opts);
+  const RadianceFn radiance =
+      hooks.wrap_radiance ? hooks.wrap_radiance(part_radiance(scene, isect, opts)) : part_radiance(scene, isect, opts);
 
   PixelRect rect{0, 0, opts.width, opts.height};
   if (opts.cell_set)
     rect = PixelRect{opts.cell_x, opts.cell_y, opts.cell_x + opts.cell_w, opts.cell_y + opts.cell_h};
 
-  if (before_render) before_render(result);
+  if (hooks.before_render) hooks.before_render(result);
   img = ImageBuffer(opts.width, opts.height);
   RenderLoopOptions loop;
   loop.threads = opts.threads;
@@ -102,6 +105,7 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
   adaptive.batch = opts.adaptive_batch;
   adaptive.tolerance = opts.adaptive_tolerance;
   result.stats = render_tiles(rect, loop, [&](int x, int y) {
+    if (hooks.before_pixel) hooks.before_pixel(x, y);
     if (opts.part >= 5) {
       int taken = 0;
       img.at(x, y) = raytrace_pixel_adaptive(cam, x, y, opts.samples_per_pixel, opts.seed, radiance, adaptive, &taken);
@@ -110,7 +114,7 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
       img.at(x, y) = raytrace_pixel(cam, x, y, opts.samples_per_pixel, opts.seed, radiance);
       img.samples[img.index(x, y)] = uint32_t(opts.samples_per_pixel);
     }
-    if (after_pixel) after_pixel(x, y);
+    if (hooks.after_pixel) hooks.after_pixel(x, y);
   });
   result.seconds = seconds_since(t0);
   return result;
@@ -214,15 +218,14 @@ int run_render_job(const RenderOptions& opts) {
     // --bvh-boxes and --bvh-node draw the render's own BVH: keep it.
     const bool overlay = opts.bvh_boxes_depth >= 0 || opts.bvh_node >= 0;
     RenderCache kept;
-    RenderResult r = render_scene(
-        scene, opts,
-        [&](const RenderResult& partial) {
-          if (partial.used_bvh) std::printf("Done! (%.4f sec)\n", partial.bvh.build_seconds);
-          std::printf("[PathTracer] Rendering... ");
-          std::fflush(stdout);
-          doing = image_size;
-        },
-        {}, overlay ? &kept : nullptr);
+    RenderHooks hooks;
+    hooks.before_render = [&](const RenderResult& partial) {
+      if (partial.used_bvh) std::printf("Done! (%.4f sec)\n", partial.bvh.build_seconds);
+      std::printf("[PathTracer] Rendering... ");
+      std::fflush(stdout);
+      doing = image_size;
+    };
+    RenderResult r = render_scene(scene, opts, hooks, overlay ? &kept : nullptr);
     std::printf("100%%! (%.4fs)\n", r.seconds);
     const uint64_t rays = r.stats.rays();
     std::printf("[PathTracer] %s %llu rays.\n", r.used_bvh ? "BVH traced" : "Traced", (unsigned long long)rays);

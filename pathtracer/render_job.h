@@ -10,6 +10,7 @@
 #include "pathtracer/options.h"
 #include "common/scene.h"
 #include "common/stats.h"
+#include "stages/part1_raytracing/pixel_sampling.h"
 
 namespace pt {
 
@@ -32,21 +33,29 @@ struct RenderCache {
   BVHBuildStats bvh;
 };
 
-// Applies -r, -c, -b and -d to the scene's camera (in that order).
+// Applies -r, -c, -b and -d to the scene's camera (in that order), and
+// gives it part 9's thin lens for --part 9 and later.
 void configure_camera(Camera& cam, const RenderOptions& opts);
+
+// What a caller of render_scene may add to a render (all optional).
+struct RenderHooks {
+  // Called once the acceleration structure is built and before the image
+  // is allocated and the first pixel rendered (the console lines use it;
+  // its RenderResult has no image yet).
+  std::function<void(const RenderResult&)> before_render;
+  // Called on the render thread right before and right after each pixel
+  // (the viewer reads the thread's ray counters for its per-pixel maps).
+  std::function<void(int x, int y)> before_pixel, after_pixel;
+  // Given the part's radiance function, returns the one the pixel function
+  // is handed (the viewer's passes reuse the samples of earlier passes).
+  std::function<RadianceFn(RadianceFn)> wrap_radiance;
+};
 
 // Renders `scene` (camera already configured) as `opts.part` prescribes.
 // Deterministic for a given opts.seed, whatever opts.threads is.
-// `before_render` is called once the acceleration structure is built and
-// before the image is allocated and the first pixel rendered (the console
-// lines use it; its RenderResult has no image yet). `after_pixel`, when
-// set, is called on the render thread right after each pixel is done (the
-// viewer reads the thread's ray counters there for its per-pixel maps).
 // `cache`, when given, keeps the acceleration structure for the next call
 // with the same `scene`.
-RenderResult render_scene(const Scene& scene, const RenderOptions& opts,
-                          const std::function<void(const RenderResult&)>& before_render = {},
-                          const std::function<void(int x, int y)>& after_pixel = {},
+RenderResult render_scene(const Scene& scene, const RenderOptions& opts, const RenderHooks& hooks = {},
                           RenderCache* cache = nullptr);
 
 // The render's figures as a JSON object (--stats-json).

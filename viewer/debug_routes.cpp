@@ -1,8 +1,10 @@
-// Debug mode's route: one tool's call (debug_api.h) in a worker process,
-// with the page's settings. The answer is the tool's result, the reason its
-// input was refused (400), or how the worker ended (a crash names the
-// function it happened in).
-#include <chrono>
+// Debug mode's routes: a tool's call (debug_api.h) starts in a worker
+// process with the page's settings and is answered at once with its job;
+// the page follows the job with /api/status (how long it has run, where it
+// is stuck) and may stop it with /api/stop, like a render, and then asks
+// /api/debug-result for the tool's result, the reason its input was
+// refused (400), or how the worker ended (a crash names the function it
+// happened in).
 #include <mutex>
 #include <string>
 
@@ -30,9 +32,14 @@ void add_debug_routes(httplib::Server& svr, App& app) {
     const Json* in = body.get("debug");
     if (!in || in->type != Json::Type::Object) throw BadRequest("debug: expected the tool's input (an object)");
     auto job = launch_job(app, "debug", body, {tool, write_json(*in)});
-    std::unique_lock<std::mutex> lock(job->mu);
-    const bool ended =
-        job->cv.wait_for(lock, std::chrono::seconds(300), [&] { return job->state != "running" || server_stopping(); });
+    std::lock_guard<std::mutex> lock(job->mu);
+    send_json(res, job_json(*job));
+  }));
+  svr.Get("/api/debug-result", guarded([&](const httplib::Request& req, httplib::Response& res) {
+    auto job = find_job(app, req);
+    std::lock_guard<std::mutex> lock(job->mu);
+    if (job->kind != "debug") throw BadRequest("job " + std::to_string(job->id) + " is not a Debug mode call", 404);
+    if (job->state == "running") throw BadRequest("the call is still running", 409);
     const std::string todo = todo_list(*job);
     if (job->state == "done" && job->result_status > 0) {
       // The TODO lines the worker printed (outside the tool's own record), as "worker_todo".
@@ -41,15 +48,11 @@ void add_debug_routes(httplib::Server& svr, App& app) {
         answer.insert(1, "\"worker_todo\":" + todo + ",");
       return send_json(res, answer, job->result_status);
     }
-    const std::string message = !ended                       ? "the debugger took more than 300 s (stopped)"
-                                : job->state == "cancelled" ? "replaced by a newer Debug mode call"
-                                                            : job->message;
-    const int status = job->state == "cancelled" && ended ? 409 : 500;
-    const std::string state = job->state;
-    lock.unlock();
-    if (!ended) Workers::cancel(job);
-    send_json(res, "{\"error\":" + json_quote(message) + ",\"state\":" + json_quote(state) + ",\"todo\":" + todo + "}",
-              status);
+    // Stopped (409: by the page, by a newer call, or with no page left) or
+    // the worker failed or crashed (500).
+    send_json(res,
+              "{\"error\":" + json_quote(job->message) + ",\"state\":" + json_quote(job->state) + ",\"todo\":" + todo + "}",
+              job->state == "cancelled" ? 409 : 500);
   }));
 }
 

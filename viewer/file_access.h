@@ -16,13 +16,17 @@ class FileAccess {
   const std::vector<std::string>& folders() const { return roots_; }
 
   // The resolved path of `requested` when it names an existing regular file
-  // of `kind` (.dae; any name for a camera file; .exr) inside an allowed
-  // folder once every symbolic link is followed; otherwise an empty string
-  // and *why says what is wrong.
+  // of `kind` inside an allowed folder once every symbolic link is
+  // followed: a .dae scene, an .exr map, or a camera file (.txt, .cam or
+  // no extension) whose first six lines hold the course's 5, 6, 5, 9, 3
+  // and 2 numbers. Otherwise an empty string and *why says what is wrong,
+  // quoting nothing from the file; a missing file and one outside the
+  // folders get the same answer (a file missing inside them: "no such
+  // file").
   std::string resolve(const std::string& requested, FileKind kind, std::string* why) const;
 
   // Files of `kind` in the allowed folders (three levels deep, at most
-  // `limit` of them), resolved, sorted.
+  // `limit` of them, among the first 50 x `limit` entries), resolved, sorted.
   std::vector<std::string> list(FileKind kind, size_t limit = 2000) const;
 
  private:

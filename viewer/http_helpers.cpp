@@ -5,25 +5,6 @@
 
 namespace pt::viewer {
 
-bool token_ok(const httplib::Request& req, const std::string& token) {
-  auto same = [&](const std::string& t) {
-    if (t.size() != token.size()) return false;
-    unsigned diff = 0;
-    for (size_t i = 0; i < t.size(); ++i) diff |= unsigned(t[i] ^ token[i]);
-    return diff == 0;
-  };
-  if (req.has_param("token") && same(req.get_param_value("token"))) return true;
-  if (req.has_header("X-Token") && same(req.get_header_value("X-Token"))) return true;
-  const std::string cookies = req.get_header_value("Cookie");
-  size_t at = 0;
-  while ((at = cookies.find("pt_viewer_token=", at)) != std::string::npos) {
-    at += 16;
-    const size_t end = cookies.find(';', at);
-    if (same(cookies.substr(at, end == std::string::npos ? std::string::npos : end - at))) return true;
-  }
-  return false;
-}
-
 void send_json(httplib::Response& res, const std::string& body, int status) {
   res.status = status;
   res.set_content(body, "application/json");

@@ -1,4 +1,4 @@
-// What every route of the viewer's API shares: the token check, JSON
+// What every route of the viewer's API shares: JSON
 // replies and errors, the request's JSON body and numeric parameters, and
 // guarded(), which turns a route's BadRequest (requests.h) or failure into
 // a JSON error. A file of new routes needs only this header, routes.h and
@@ -14,10 +14,6 @@
 #include "viewer/requests.h"
 
 namespace pt::viewer {
-
-// Whether the request carries `token`: as ?token=, the X-Token header or
-// the page's cookie (compared in constant time).
-bool token_ok(const httplib::Request& req, const std::string& token);
 
 void send_json(httplib::Response& res, const std::string& body, int status = 200);
 // {"error": message} with `status`.

@@ -22,13 +22,44 @@ std::vector<uint8_t> flip_to_rgb(int w, int h, const std::function<void(size_t i
   return out;
 }
 
+std::string pfm_header(const Frame& f) {
+  return "PF\n" + std::to_string(f.width) + " " + std::to_string(f.height) + "\n-1\n";
+}
+
 }  // namespace
+
+std::vector<uint8_t> frame_rgb(const Frame& f) {
+  return flip_to_rgb(f.width, f.height, [&](size_t i, uint8_t out[3]) {
+    const Color c = f.color(i);
+    out[0] = radiance_to_byte(c.x);
+    out[1] = radiance_to_byte(c.y);
+    out[2] = radiance_to_byte(c.z);
+  });
+}
+
+std::vector<uint8_t> frame_png(const Frame& f) { return encode_png_rgb(frame_rgb(f), f.width, f.height); }
+
+size_t frame_pfm_size(const Frame& f) { return pfm_header(f).size() + f.pixels() * 12; }
+
+void frame_pfm_bytes(const Frame& f, size_t offset, size_t n, char* out) {
+  // encode_pfm's bytes: the header, then each pixel's three floats, rows
+  // from the bottom (the payload's order).
+  const std::string head = pfm_header(f);
+  for (; n > 0 && offset < head.size(); --n) *out++ = head[offset++];
+  for (size_t k = offset - head.size(); n > 0;) {
+    const size_t within = k % 12, m = std::min(12 - within, n);
+    std::memcpy(out, &f.payload[(k / 12) * 20 + within], m);
+    out += m;
+    k += m;
+    n -= m;
+  }
+}
 
 Overlay frame_overlay(const Frame& f, const std::string& kind, int target) {
   const int w = f.width, h = f.height;
   Overlay o;
   if (kind == "render" || kind.empty()) {
-    o.rgb = to_png_bytes(f.image());
+    o.rgb = frame_rgb(f);
   } else if (kind == "rate") {
     target = std::max(1, target);
     o.rgb = flip_to_rgb(w, h, [&](size_t i, uint8_t out[3]) {
@@ -46,6 +77,13 @@ Overlay frame_overlay(const Frame& f, const std::string& kind, int target) {
     throw BadRequest("kind: expected render, rate or tests");
   }
   return o;
+}
+
+std::string difference_pending(const Frame& f, const RenderOptions& opts, const ViewerCase& vc) {
+  const int want = vc.opts.samples_per_pixel;
+  if (opts.cell_set || f.samples >= want || image_key(opts) != image_key(vc.opts)) return "";
+  return "difference shown when the render reaches " + std::to_string(want) + " samples (now " +
+         std::to_string(f.samples) + ")";
 }
 
 Difference difference_overlay(const Frame& f, const RenderOptions& opts, const ViewerCase& vc,

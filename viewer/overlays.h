@@ -23,6 +23,23 @@ struct Overlay {
 // for another kind.
 Overlay frame_overlay(const Frame& f, const std::string& kind, int target);
 
+// The frame as the command line's PNG looks (8-bit RGB rows from the top),
+// and that PNG file, made from the frame's payload without a copy of the
+// image.
+std::vector<uint8_t> frame_rgb(const Frame& f);
+std::vector<uint8_t> frame_png(const Frame& f);
+
+// Bytes [offset, offset + n) of the frame as the command line's PFM file
+// (encode_pfm's bytes), and that file's size: a download is streamed.
+size_t frame_pfm_size(const Frame& f);
+void frame_pfm_bytes(const Frame& f, size_t offset, size_t n, char* out);
+
+// When frame `f` is an earlier pass of a render of case `vc`'s settings
+// (`opts`, the render's, has the case's sample count; the frame fewer):
+// "difference shown when the render reaches N samples (now n)". Empty
+// otherwise: the frame is the case's, or the render is not.
+std::string difference_pending(const Frame& f, const RenderOptions& opts, const ViewerCase& vc);
+
 // The grader's comparison of frame `f` of a job run with `opts` against
 // case `vc`'s reference in `reference_dir`: |z| per pixel (black to white
 // at the threshold, red beyond), scale the threshold, and the verdict.

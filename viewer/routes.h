@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +20,12 @@
 
 namespace pt::viewer {
 
+// The server's threads, and how many of them status requests may hold
+// waiting for a job's next frame: the rest serve everything else (a
+// browser keeps a few connections open, each on a thread while it lasts).
+constexpr int kServerThreads = 32;
+constexpr int kMaxWaitingPolls = 16;
+
 struct App {
   ServerConfig cfg;
   Workers workers;
@@ -26,8 +33,13 @@ struct App {
   std::string temp_dir;
   std::atomic<uint64_t> camera_files{0};
   std::vector<ViewerCase> cases;
+  int port = 0;  // the port it listens on, once bound
+  std::atomic<int> waiting_polls{0};  // status requests waiting now
+  // Held while a frame is converted into an image for the page or a PNG,
+  // so that requests at once never hold more than one conversion's memory.
+  std::mutex converting;
 
-  explicit App(ServerConfig c) : cfg(std::move(c)), workers(cfg.worker_exe) {}
+  explicit App(ServerConfig c) : cfg(std::move(c)), workers(cfg.worker_exe, cfg.source_dir) {}
 };
 
 // Starts a job of `kind` ("render", "normals" or "bvh") for the request's

@@ -3,7 +3,9 @@
 // serve: the page, the scene, renders, the BVH.
 #include "viewer/server.h"
 
+#include <malloc.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,6 +26,7 @@
 
 #include <httplib.h>
 
+#include "viewer/access.h"
 #include "viewer/camera_file.h"
 #include "viewer/http_helpers.h"
 #include "common/image_io.h"
@@ -78,7 +81,8 @@ void serve_file(httplib::Response& res, const std::string& path, const char* typ
 std::string state_json(const App& app) {
   const ServerConfig& c = app.cfg;
   std::ostringstream s;
-  s << "{\"start\":" << settings_json(c.start) << ",\"parts_built\":" << kPartsBuilt
+  s << "{\"start\":" << settings_json(c.start) << ",\"start_note\":" << json_quote(c.start_note)
+    << ",\"parts_built\":" << kPartsBuilt
     << ",\"scenes\":" << files_json(c.files, FileKind::Scene)
     << ",\"cameras\":" << files_json(c.files, FileKind::Camera)
     << ",\"envs\":" << files_json(c.files, FileKind::Environment) << ",\"folders\":[";
@@ -120,36 +124,47 @@ void set_image_headers(httplib::Response& res, const Frame& f) {
   res.set_header("X-Pass", std::to_string(f.pass));
 }
 
-void send_bytes(httplib::Response& res, const std::vector<uint8_t>& bytes, const char* type) {
-  res.set_content(std::string(bytes.begin(), bytes.end()), type);
+// Sends `bytes` as they are: the response keeps them until it is written.
+void send_bytes(httplib::Response& res, std::vector<uint8_t> bytes, const char* type) {
+  auto kept = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
+  res.set_content_provider(kept->size(), type, [kept](size_t offset, size_t length, httplib::DataSink& sink) {
+    return sink.write(reinterpret_cast<const char*>(kept->data()) + offset, std::min<size_t>(length, 1 << 20));
+  });
 }
 
-// Refuses requests without the token and answers errors without a body
-// with a JSON one.
-void add_token_check(httplib::Server& svr, const std::string& token) {
-  svr.set_pre_routing_handler([&token](const httplib::Request& req, httplib::Response& res) {
-    if (!token_ok(req, token)) {
-      res.status = 403;
-      res.set_content("403: this viewer needs the token of the URL it printed when it started\n", "text/plain");
-      return httplib::Server::HandlerResponse::Handled;
-    }
-    return httplib::Server::HandlerResponse::Unhandled;
+// Refuses what access.h refuses (a JSON error under /api/, a line of text
+// elsewhere) and answers errors without a body with a JSON one. `port` is
+// the port the server listens on, known once it is bound.
+void add_access_check(httplib::Server& svr, const std::string& token, const int& port) {
+  svr.set_pre_routing_handler([&token, &port](const httplib::Request& req, httplib::Response& res) {
+    const Refusal r = check_request(req, token, port);
+    if (r.status == 0) return httplib::Server::HandlerResponse::Unhandled;
+    if (req.path.rfind("/api/", 0) == 0)
+      send_error(res, r.reason, r.status);
+    else
+      res.set_content(r.reason + "\n", "text/plain; charset=utf-8");
+    res.status = r.status;
+    return httplib::Server::HandlerResponse::Handled;
   });
   svr.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (res.body.empty()) res.set_content("{\"error\":\"HTTP " + std::to_string(res.status) + "\"}", "application/json");
   });
 }
 
-// Serves until stopped; a render nobody watches (the page was closed) is
-// stopped after 30 s.
+// Serves until stopped; a job nobody watches (its page was closed) is
+// stopped after cfg.idle_stop_seconds.
 void serve(httplib::Server& svr, App& app) {
   std::mutex watch_mu;
   std::condition_variable watch_cv;
   bool watching = true;
+  const double idle = app.cfg.idle_stop_seconds;
   std::thread watchdog([&] {
     std::unique_lock<std::mutex> lock(watch_mu);
-    while (!watch_cv.wait_for(lock, std::chrono::seconds(5), [&] { return !watching; }))
-      app.workers.stop_unwatched(30.0);
+    const auto period = std::chrono::duration<double>(std::min(5.0, std::max(0.1, idle / 2)));
+    while (!watch_cv.wait_for(lock, period, [&] { return !watching; }))
+      for (const auto& job : app.workers.stop_unwatched(idle))
+        std::fprintf(stderr, "viewer: stopped job %llu (%s): no page asked about it for %g s\n",
+                     (unsigned long long)job->id, job->kind.c_str(), idle);
   });
   svr.listen_after_bind();
   {
@@ -221,9 +236,9 @@ std::pair<std::shared_ptr<Job>, std::shared_ptr<const Frame>> job_frame(App& app
 // and /api/state.
 void add_page_routes(httplib::Server& svr, App& app) {
   const ServerConfig& c = app.cfg;
-  svr.Get("/", [&c](const httplib::Request&, httplib::Response& res) {
+  svr.Get("/", [&c, &app](const httplib::Request&, httplib::Response& res) {
     serve_file(res, c.web_dir + "/index.html", "text/html; charset=utf-8");
-    res.set_header("Set-Cookie", "pt_viewer_token=" + c.token + "; Path=/; HttpOnly; SameSite=Strict");
+    res.set_header("Set-Cookie", cookie_name(app.port) + "=" + c.token + "; Path=/; HttpOnly; SameSite=Strict");
   });
   svr.Get(R"(/web/([a-z0-9_]+)\.(js|css))", [&c](const httplib::Request& req, httplib::Response& res) {
     const std::string ext = req.matches[2];
@@ -276,25 +291,57 @@ void add_render_routes(httplib::Server& svr, App& app) {
   svr.Post("/api/normals", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     start_job(app, "normals", req, res);
   }));
-  svr.Post("/api/stop", guarded([&app](const httplib::Request&, httplib::Response& res) {
-    app.workers.stop_current();
+  // Stops the render (or the job of {"job": id}) and answers once its
+  // worker is gone.
+  svr.Post("/api/stop", guarded([&app](const httplib::Request& req, httplib::Response& res) {
+    const Json body = req.body.empty() ? json_object() : body_json(req);
+    if (body.type == Json::Type::Object && body.get("job")) {
+      const double id = body.num("job", -1);
+      auto job = id >= 0 ? app.workers.find(uint64_t(id)) : nullptr;
+      if (!job) throw BadRequest("no such job (it may have been replaced by newer ones)", 404);
+      app.workers.stop(job, "stopped");
+    } else {
+      app.workers.stop_kind("render", "stopped");
+    }
     send_json(res, "{}");
   }));
-  // Waits (up to 10 s) until the job has more than `after` frames or has ended.
+  // Waits (up to 10 s) until the job has more than `after` frames or has
+  // ended. A waiting request holds one of the server's threads: beyond
+  // kMaxWaitingPolls of them (many tabs, or a program flooding it) the
+  // status is answered at once with "busy", so that the other requests
+  // always find a thread.
   svr.Get("/api/status", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto job = find_job(app, req);
     const long long after = req.has_param("after") ? (long long)param_u64(req, "after") : -1;
+    if (app.waiting_polls.fetch_add(1) >= kMaxWaitingPolls) {
+      --app.waiting_polls;
+      std::lock_guard<std::mutex> lock(job->mu);
+      job->last_seen = now_seconds();
+      std::string s = job_json(*job);
+      s.insert(1, "\"busy\":true,");
+      return send_json(res, s);
+    }
+    struct Leave {
+      std::atomic<int>& n;
+      ~Leave() { --n; }
+    } leave{app.waiting_polls};
     std::unique_lock<std::mutex> lock(job->mu);
     job->last_seen = now_seconds();
+    ++job->waiting_polls;  // a page waiting on it is watching it
     job->cv.wait_for(lock, std::chrono::seconds(10),
                      [&] { return job->state != "running" || job->frames > after || g_stop; });
+    --job->waiting_polls;
     job->last_seen = now_seconds();
     send_json(res, job_json(*job));
   }));
+  // Images are converted one at a time (App::converting); a PFM is
+  // streamed from the frame.
   svr.Get("/api/image", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto [job, f] = job_frame(app, req);
-    const Overlay o = frame_overlay(*f, req.get_param_value("kind"), job->opts.samples_per_pixel);
-    send_bytes(res, o.rgb, "application/octet-stream");
+    std::unique_lock<std::mutex> one(app.converting);
+    Overlay o = frame_overlay(*f, req.get_param_value("kind"), job->opts.samples_per_pixel);
+    one.unlock();
+    send_bytes(res, std::move(o.rgb), "application/octet-stream");
     set_image_headers(res, *f);
     res.set_header("X-Samples", std::to_string(f->samples));
     res.set_header("X-Scale", num(o.scale));
@@ -307,20 +354,41 @@ void add_render_routes(httplib::Server& svr, App& app) {
     const std::string name = req.get_param_value("case");
     const ViewerCase* vc = find_case(app.cases, name);
     if (!vc) throw BadRequest("case: no grading case named '" + name + "'", 404);
-    const Difference d = difference_overlay(*f, job->opts, *vc, app.cfg.source_dir + "/reference_images");
-    send_bytes(res, d.picture.rgb, "application/octet-stream");
+    // An earlier pass of the case's render: not an error, the difference
+    // comes with the last pass (202 and when); a render stopped before it
+    // never gets there.
+    if (const std::string pending = difference_pending(*f, job->opts, *vc); !pending.empty()) {
+      std::lock_guard<std::mutex> lock(job->mu);
+      if (job->state != "running")
+        throw BadRequest("the render " + job->state + " at " + std::to_string(f->samples) + " samples: render again to " +
+                             "compare it with case " + name, 409);
+      return send_json(res, "{\"pending\":" + json_quote(pending) + "}", 202);
+    }
+    std::unique_lock<std::mutex> one(app.converting);
+    Difference d = difference_overlay(*f, job->opts, *vc, app.cfg.source_dir + "/reference_images");
+    one.unlock();
+    send_bytes(res, std::move(d.picture.rgb), "application/octet-stream");
     set_image_headers(res, *f);
     res.set_header("X-Scale", num(d.picture.scale));
     res.set_header("X-Summary", d.verdict);
   }));
   svr.Get("/api/png", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto [job, f] = job_frame(app, req);
-    send_bytes(res, encode_png(f->image()), "image/png");
+    std::unique_lock<std::mutex> one(app.converting);
+    std::vector<uint8_t> png = frame_png(*f);
+    one.unlock();
+    send_bytes(res, std::move(png), "image/png");
     res.set_header("Content-Disposition", "attachment; filename=\"render.png\"");
   }));
   svr.Get("/api/pfm", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto [job, f] = job_frame(app, req);
-    send_bytes(res, encode_pfm(f->image()), "application/octet-stream");
+    const std::shared_ptr<const Frame> frame = f;
+    res.set_content_provider(frame_pfm_size(*frame), "application/octet-stream",
+                             [frame](size_t offset, size_t length, httplib::DataSink& sink) {
+                               std::vector<char> chunk(std::min<size_t>(length, 1 << 16));
+                               frame_pfm_bytes(*frame, offset, chunk.size(), chunk.data());
+                               return sink.write(chunk.data(), chunk.size());
+                             });
     res.set_header("Content-Disposition", "attachment; filename=\"render.pfm\"");
   }));
 }
@@ -365,15 +433,28 @@ int run_server(ServerConfig cfg) {
                  "in viewer/web)\n",
                  three_dir(c).c_str());
 
+  // Frames are large (20 bytes a pixel): allocations of a megabyte or more
+  // are mapped on their own and given back to the system when freed,
+  // whatever sizes came before (glibc otherwise raises this threshold to
+  // the largest block freed, and keeps such blocks in its heap).
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   httplib::Server svr;
   g_server = &svr;
   svr.set_payload_max_length(1 << 16);
   // A browser keeps several connections open and the page long-polls on
   // one: enough threads that an idle kept-alive connection never starves
-  // a request, and idle connections let go soon.
-  svr.new_task_queue = [] { return new httplib::ThreadPool(32); };
+  // a request (routes.h), and idle connections let go soon.
+  svr.new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
   svr.set_keep_alive_timeout(2);
-  add_token_check(svr, c.token);
+  // httplib's default sets SO_REUSEPORT, with which a second viewer on the
+  // same port binds too and the kernel shares the connections between
+  // them. SO_REUSEADDR alone lets a restarted viewer take its port back
+  // from connections still closing, but not from a listening server.
+  svr.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+  add_access_check(svr, c.token, app.port);
   add_page_routes(svr, app);
   add_scene_routes(svr, app);
   add_render_routes(svr, app);
@@ -382,6 +463,7 @@ int run_server(ServerConfig cfg) {
 
   const int port = c.port > 0 ? (svr.bind_to_port("127.0.0.1", c.port) ? c.port : -1)
                               : svr.bind_to_any_port("127.0.0.1");
+  app.port = port;
   if (port <= 0) {
     std::fprintf(stderr, "viewer: error: cannot listen on 127.0.0.1:%d (in use?)\n", c.port);
     return 1;

@@ -18,6 +18,8 @@ struct ServerConfig {
   std::string source_dir;    // the project (reference_images/, grader/cases.txt)
   std::string token;         // empty: a fresh random one
   int port = 0;              // 0: any free port
+  double idle_stop_seconds = 30;  // a job no page has asked about for this long is stopped
+  std::string start_note;    // why the page starts at the part it starts at (main.cpp), or empty
 };
 
 // A random token: 32 hexadecimal digits from the system's random source.

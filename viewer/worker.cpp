@@ -1,6 +1,5 @@
 #include "viewer/worker.h"
 
-#include <execinfo.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,10 +8,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "stages/part2_bvh/bvh.h"
@@ -23,18 +24,40 @@
 #include "pathtracer/options.h"
 #include "pathtracer/render_job.h"
 #include "common/todo.h"
+#include "viewer/progressive.h"
+#include "viewer/worker_watch.h"
 
 namespace pt::viewer {
 
 #ifdef PT_VIEWER_PLANTS
-// Outside the unnamed namespace, so that the backtrace can name it.
+// Outside the unnamed namespace, so that a report can name them.
 __attribute__((noinline, noipa)) void planted_crash_in_render(volatile int* p) { *p = 1; }
 __attribute__((noinline, noipa)) void planted_crash_in_debug_tool(volatile int* p) { *p = 1; }
+// A recursion that never ends: the stack overflows.
+__attribute__((noinline, noipa)) int planted_endless_recursion(volatile int* depth) {
+  volatile char frame[256];
+  frame[0] = char(*depth);
+  ++*depth;
+  return *depth >= 0 ? planted_endless_recursion(depth) + frame[0] : 0;
+}
+// A loop that never ends (until the worker is killed).
+__attribute__((noinline, noipa)) void planted_infinite_loop_in_render(volatile int* spin) {
+  while (*spin) {
+  }
+}
+__attribute__((noinline, noipa)) void planted_infinite_loop_in_debug_tool(volatile int* spin) {
+  while (*spin) {
+  }
+}
 #endif
 
 namespace {
 
 int g_protocol_fd = -1;  // the worker's real standard output
+
+// A job that has not moved on for this long is reported stuck (an endless
+// loop in a part's code, most likely): a STALL line (worker_watch.h).
+constexpr double kStallSeconds = 5.0;
 
 void write_all(const void* data, size_t n) {
   const char* p = static_cast<const char*>(data);
@@ -54,52 +77,56 @@ void write_message(const std::string& head, const std::vector<uint8_t>& payload)
   if (!payload.empty()) write_all(payload.data(), payload.size());
 }
 
-// A fault in a part's code: name the signal and print the stack, then die
-// of the same signal so that the server sees how the worker ended.
-void on_fault(int sig) {
-  const char* name = sig == SIGSEGV ? "SIGSEGV" : sig == SIGBUS ? "SIGBUS" : sig == SIGFPE ? "SIGFPE"
-                     : sig == SIGILL ? "SIGILL" : sig == SIGABRT ? "SIGABRT" : "SIGNAL";
-  const char head[] = "CRASH ";
-  (void)!::write(2, head, sizeof head - 1);
-  (void)!::write(2, name, std::strlen(name));
-  (void)!::write(2, "\n", 1);
-  void* frames[64];
-  const int n = backtrace(frames, 64);
-  backtrace_symbols_fd(frames, n, 2);
-  std::signal(sig, SIG_DFL);
-  std::raise(sig);
-}
-
-void install_fault_handlers() {
-  // backtrace() loads libgcc on first use, which is not safe inside a
-  // signal handler: do it now.
-  void* warm[2];
-  backtrace(warm, 2);
-  for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(sig, on_fault);
-}
-
 #ifdef PT_VIEWER_PLANTS
 // Test builds only: faults planted by the environment, to test how the
 // server reports them. PT_VIEWER_PLANT=crash dereferences a null pointer
 // in the middle of a render with --seed 13 and throws an exception there
-// with --seed 14 (and in every Debug mode call with --seed 13); =todo
-// prints a stub's TODO line.
+// with --seed 14 (and in every Debug mode call with --seed 13), and
+// dereferences it in every pixel with --seed 16 (every render thread
+// crashes at once), and recurses until the stack overflows with --seed 17;
+// =hang loops for ever in the middle of a render with
+// --seed 15 (and in every Debug mode call with --seed 15); =todo prints a
+// stub's TODO line; =gate starts each pass after the first only once the
+// file $PT_VIEWER_GATE<pass> exists.
 std::string planted() {
   const char* v = std::getenv("PT_VIEWER_PLANT");
   return v ? v : "";
 }
 #endif
 
-std::string frame_json(const RenderOptions& o, int pass, const RenderResult& r, double elapsed, size_t bytes) {
+std::string frame_json(const RenderOptions& o, int pass, const RenderResult& r, double elapsed, uint64_t traced,
+                       uint64_t reused, size_t bytes) {
   char buf[768];
   std::snprintf(buf, sizeof buf,
                 "{\"kind\":\"render\",\"pass\":%d,\"width\":%d,\"height\":%d,\"samples\":%d,"
                 "\"rays\":%llu,\"tests\":%llu,\"nodes\":%llu,\"seconds\":%.6f,\"elapsed\":%.6f,"
-                "\"used_bvh\":%s,\"bytes\":%zu}",
+                "\"traced\":%llu,\"reused\":%llu,\"used_bvh\":%s,\"bytes\":%zu}",
                 pass, o.width, o.height, o.samples_per_pixel, (unsigned long long)r.stats.rays(),
                 (unsigned long long)r.stats.primitive_tests, (unsigned long long)r.stats.node_visits, r.seconds,
-                elapsed, r.used_bvh ? "true" : "false", bytes);
+                elapsed, (unsigned long long)traced, (unsigned long long)reused, r.used_bvh ? "true" : "false", bytes);
   return buf;
+}
+
+// A pass's frame: its image, the samples each pixel took and its tests per
+// ray, written as they are converted (no copy of the image).
+void write_frame(const std::string& head, const ImageBuffer& img, const std::vector<float>& tests,
+                 const std::vector<uint32_t>& rays) {
+  write_all(head.data(), head.size());
+  std::vector<uint8_t> chunk;
+  chunk.reserve(20 << 12);
+  for (size_t i = 0; i < img.pixels.size(); ++i) {
+    uint8_t p[20];
+    const float per_ray = rays[i] ? tests[i] / float(rays[i]) : 0.0f;
+    std::memcpy(p, &img.pixels[i], 12);
+    std::memcpy(p + 12, &img.samples[i], 4);
+    std::memcpy(p + 16, &per_ray, 4);
+    chunk.insert(chunk.end(), p, p + 20);
+    if (chunk.size() >= (20 << 12)) {
+      write_all(chunk.data(), chunk.size());
+      chunk.clear();
+    }
+  }
+  if (!chunk.empty()) write_all(chunk.data(), chunk.size());
 }
 
 Scene load_scene(const RenderOptions& o) {
@@ -115,55 +142,69 @@ Scene load_scene(const RenderOptions& o) {
   return scene;
 }
 
-// The progressive render: passes at 1, 2, 4, ... samples, then -s. Each
-// pass is the command line's render at that sample count (render_scene with
-// the same options and seed), so the last one is exactly its image.
+// The progressive render (progressive.h): passes of 1, 2, 4, ... samples,
+// then -s, each the command line's render at its count, each pass reusing
+// the samples of the one before; a frame after each.
 int run_render(const RenderOptions& base) {
   const Scene scene = load_scene(base);
-  const int target = base.samples_per_pixel;
   const int w = base.width, h = base.height;
   const auto t0 = std::chrono::steady_clock::now();
-  // Per pixel: intersection tests per ray, from the render thread's counters.
-  std::vector<float> tests_per_ray(size_t(w) * h, 0.0f);
+  // Per pixel, the intersection tests and rays of the samples in the
+  // image shown: pass 1's own, then those of every jittered sample so far.
+  std::vector<float> tests(size_t(w) * h, 0.0f);
+  std::vector<uint32_t> rays(size_t(w) * h, 0);
   struct Last {
     int pass = -1;
     RayStats stats;
   };
-  int pass = 0;
-  RenderCache cache;  // the BVH is built by the first pass and reused
-  for (int n = next_pass_samples(0, target);; n = next_pass_samples(n, target)) {
-    RenderOptions o = base;
-    o.samples_per_pixel = n;
-    o.progress = false;
-    std::fill(tests_per_ray.begin(), tests_per_ray.end(), 0.0f);
-    const auto after_pixel = [&](int x, int y) {
-      // The render loop zeroes each thread's counters when a render starts.
-      thread_local Last last;
-      if (last.pass != pass) last = Last{pass, RayStats{}};
-      const RayStats& now = thread_ray_stats();
-      const uint64_t rays = now.rays() - last.stats.rays();
-      const uint64_t tests = now.primitive_tests - last.stats.primitive_tests;
-      tests_per_ray[size_t(y) * w + x] = rays ? float(double(tests) / double(rays)) : 0.0f;
-      last.stats = now;
+  std::atomic<uint64_t> pixels_done{0};
+  const StallWatch watch(pixels_done, kStallSeconds);
+  PassHooks hooks;
+  hooks.before_pixel = [](int, int, int) { prepare_thread_for_faults(); };
+  hooks.after_pixel = [&](int pass, int x, int y) {
+    // The render loop zeroes each thread's counters when a render starts.
+    thread_local Last last;
+    if (last.pass != pass) last = Last{pass, RayStats{}};
+    const RayStats& now = thread_ray_stats();
+    const size_t i = size_t(y) * w + x;
+    rays[i] += uint32_t(now.rays() - last.stats.rays());
+    tests[i] += float(now.primitive_tests - last.stats.primitive_tests);
+    last.stats = now;
 #ifdef PT_VIEWER_PLANTS
-      if (o.seed == 13 && x == w / 2 && y == h / 2 && planted() == "crash") planted_crash_in_render(nullptr);
-      if (o.seed == 14 && x == w / 2 && y == h / 2 && planted() == "crash")
-        throw std::runtime_error("planted failure: a part threw an exception");
-#endif
-    };
-    const RenderResult r = render_scene(scene, o, {}, after_pixel, &cache);
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::vector<uint8_t> payload(size_t(w) * h * 20);
-    for (size_t i = 0; i < size_t(w) * h; ++i) {
-      uint8_t* p = &payload[i * 20];
-      std::memcpy(p, &r.image.pixels[i], 12);
-      std::memcpy(p + 12, &r.image.samples[i], 4);
-      std::memcpy(p + 16, &tests_per_ray[i], 4);
+    const uint64_t seed = base.seed;
+    if (seed == 13 && x == w / 2 && y == h / 2 && planted() == "crash") planted_crash_in_render(nullptr);
+    if (seed == 14 && x == w / 2 && y == h / 2 && planted() == "crash")
+      throw std::runtime_error("planted failure: a part threw an exception");
+    if (seed == 15 && x == w / 2 && y == h / 2 && planted() == "hang") {
+      volatile int spin = 1;
+      planted_infinite_loop_in_render(&spin);
     }
-    write_message("FRAME " + frame_json(o, pass, r, elapsed, payload.size()) + "\n", payload);
-    ++pass;
-    if (n >= target) break;
-  }
+    if (seed == 16 && planted() == "crash") planted_crash_in_render(nullptr);
+    if (seed == 17 && x == w / 2 && y == h / 2 && planted() == "crash") {
+      volatile int depth = 0;
+      planted_endless_recursion(&depth);
+    }
+#endif
+    ++pixels_done;
+  };
+  hooks.pass_done = [&](int pass, const RenderOptions& o, const RenderResult& r, uint64_t traced, uint64_t reused) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const size_t bytes = size_t(w) * h * 20;
+    write_frame("FRAME " + frame_json(o, pass, r, elapsed, traced, reused, bytes) + "\n", r.image, tests, rays);
+    // From the second pass on, the maps add up the jittered samples only.
+    if (pass == 0) {
+      std::fill(tests.begin(), tests.end(), 0.0f);
+      std::fill(rays.begin(), rays.end(), 0u);
+    }
+#ifdef PT_VIEWER_PLANTS
+    // The next pass waits until the test lets it (a file <gate><pass> exists).
+    if (planted() == "gate" && o.samples_per_pixel < base.samples_per_pixel)
+      while (!std::filesystem::exists(std::getenv("PT_VIEWER_GATE") + std::to_string(pass + 1)))
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+#endif
+  };
+  prepare_thread_for_faults();
+  render_progressive(scene, base, hooks);
   write_message("DONE\n", {});
   return 0;
 }
@@ -240,6 +281,15 @@ int run_bvh(const RenderOptions& o) {
 int run_debug(const std::string& tool, const std::string& input, const RenderOptions& o) {
   int status = 200;
   std::string body;
+  const std::atomic<uint64_t> no_progress{0};  // a call is one step: stuck once it takes long
+  const StallWatch watch(no_progress, kStallSeconds);
+#ifdef PT_VIEWER_PLANTS
+  if (planted() == "crash" && o.seed == 13) planted_crash_in_debug_tool(nullptr);
+  if (planted() == "hang" && o.seed == 15) {
+    volatile int spin = 1;
+    planted_infinite_loop_in_debug_tool(&spin);
+  }
+#endif
   try {
     body = run_debug_tool(tool, input, o, [&] { return load_scene(o); });
   } catch (const debug::InputError& e) {
@@ -281,13 +331,10 @@ int worker_main(int argc, char** argv) {
       return *code;
     }
 #ifdef PT_VIEWER_PLANTS
-    if (planted() == "todo") todo_once("Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp)");
+    if (planted() == "todo") todo_once("Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp); one sample through the pixel centre, whatever -s");
 #endif
     if (job == "render") return run_render(opts);
     if (job == "bvh") return run_bvh(opts);
-#ifdef PT_VIEWER_PLANTS
-    if (job == "debug" && planted() == "crash" && opts.seed == 13) planted_crash_in_debug_tool(nullptr);
-#endif
     if (job == "debug") return run_debug(argv[3], argv[4], opts);
     std::fprintf(stderr, "ERROR unknown worker job '%s'\n", job.c_str());
     return 2;

@@ -4,7 +4,7 @@
 //
 // Protocol on the worker's standard output (the worker moves the
 // program's own stdout to stderr first, so stray prints cannot break it):
-//   FRAME <json>\n<bytes>   one pass of a render; the json gives "bytes",
+//   FRAME <json>\n<bytes>   one pass of a render (progressive.h); the json gives "bytes",
 //                           the payload is width*height pixels of
 //                           {float r, g, b; uint32 samples; float tests per ray},
 //                           row 0 at the bottom
@@ -19,14 +19,5 @@ namespace pt::viewer {
 // argv[1] is "--worker", argv[2] the job ("render" or "bvh"), the rest are
 // pathtracer flags and the scene. Returns the exit status.
 int worker_main(int argc, char** argv);
-
-// The render schedule: the sample counts of the passes for -s N:
-// 1, 2, 4, ... below N, then N. Pass k's image is exactly the image the
-// command line renders at -s (its count) with the same flags and seed.
-inline int next_pass_samples(int done, int target) {
-  if (done <= 0) return 1;
-  const long long next = 2LL * done;
-  return next >= target ? target : int(next);
-}
 
 }  // namespace pt::viewer

@@ -1,6 +1,5 @@
 #include "viewer/workers.h"
 
-#include <cxxabi.h>
 #include <cerrno>
 #include <fcntl.h>
 #include <signal.h>
@@ -9,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <cstring>
 #include <sstream>
@@ -47,37 +47,6 @@ bool read_line(int fd, std::string* line, size_t limit = 1 << 16) {
     if (c == '\n') return true;
     if (line->size() < limit) line->push_back(c);
   }
-}
-
-// "viewer(_ZN2pt18intersect_triangleERKNS_3RayE+0x2a) [0x55d1]" -> "intersect_triangle".
-std::string frame_function(const std::string& line) {
-  const size_t open = line.find('('), plus = line.find('+', open == std::string::npos ? 0 : open);
-  if (open == std::string::npos || plus == std::string::npos || plus <= open + 1) return "";
-  const std::string mangled = line.substr(open + 1, plus - open - 1);
-  int status = 0;
-  char* d = abi::__cxa_demangle(mangled.c_str(), nullptr, nullptr, &status);
-  if (status != 0 || !d) {
-    std::free(d);
-    return "";
-  }
-  std::string name = d;
-  std::free(d);
-  if (name.rfind("pt::", 0) != 0) return "";
-  if (name.find("on_fault") != std::string::npos) return "";
-  // Drop the parameter list and the namespaces.
-  int depth = 0;
-  size_t cut = name.size();
-  for (size_t i = 0; i < name.size(); ++i) {
-    if (name[i] == '(' && depth == 0) {
-      cut = i;
-      break;
-    }
-    if (name[i] == '<') ++depth;
-    if (name[i] == '>') --depth;
-  }
-  name = name.substr(0, cut);
-  const size_t colons = name.rfind("::");
-  return colons == std::string::npos ? name : name.substr(colons + 2);
 }
 
 // Starts `args` (args[0] the program) in its own process group with
@@ -120,31 +89,53 @@ int spawn_worker(std::vector<std::string> args, pid_t* pid, int* out_fd, int* er
   return 0;
 }
 
-// The worker's stderr: TODO lines, a crash's signal and backtrace, errors,
-// and the last lines for the page's log.
-void read_worker_stderr(const std::shared_ptr<Job>& job, int err_fd) {
+// The worker's stderr: TODO lines, a crash report, stall reports, errors,
+// and the last lines for the page's log. A stall report is named at once
+// (addr2line on `exe`), so that the page can say where the job is stuck.
+void read_worker_stderr(const std::shared_ptr<Job>& job, int err_fd, const std::string& exe,
+                        const std::string& source_dir) {
   std::string line;
-  bool in_backtrace = false;
   while (read_line(err_fd, &line)) {
+    if (line.rfind("STALL ", 0) == 0) {
+      std::istringstream in(line.substr(6));
+      double seconds = 0;
+      in >> seconds;
+      std::string rest, group;
+      std::getline(in, rest);
+      std::vector<ThreadPlace> threads;
+      std::istringstream groups(rest);
+      while (std::getline(groups, group, '|')) {
+        ThreadPlace t;
+        if (parse_thread_place(group, &t)) threads.push_back(t);
+      }
+      const NamedPlace where = seconds > 0 ? innermost_function(exe, source_dir, threads) : NamedPlace{};
+      std::lock_guard<std::mutex> lock(job->mu);
+      job->stall_seconds = seconds;
+      job->stall_at = now_seconds();
+      job->stall_function = where.function;
+      job->stall_where = where.where;
+      job->cv.notify_all();
+      continue;
+    }
     std::lock_guard<std::mutex> lock(job->mu);
     if (line.rfind("TODO: implement ", 0) == 0) {
       const std::string what = line.substr(16);
       if (std::find(job->todo.begin(), job->todo.end(), what) == job->todo.end()) job->todo.push_back(what);
       job->cv.notify_all();
     } else if (line.rfind("CRASH ", 0) == 0) {
-      job->crash_signal = line.substr(6);
-      in_backtrace = true;
-    } else if (in_backtrace) {
-      if (job->crash_function.empty()) job->crash_function = frame_function(line);
+      // "CRASH SIGSEGV pc=... stack=...": named once the worker is gone.
+      const size_t space = line.find(' ', 6);
+      job->crash_signal = line.substr(6, space == std::string::npos ? std::string::npos : space - 6);
+      ThreadPlace t;
+      if (space != std::string::npos && parse_thread_place(line.substr(space + 1), &t)) job->crash_place = {t};
+      continue;
     } else if (line.rfind("ERROR ", 0) == 0) {
       if (job->message.empty()) job->message = line.substr(6);
     } else if (line.rfind("pathtracer: error: ", 0) == 0) {
       job->message = line.substr(19);
     }
-    if (!in_backtrace) {
-      job->log.push_back(line);
-      if (job->log.size() > 20) job->log.erase(job->log.begin());
-    }
+    job->log.push_back(line);
+    if (job->log.size() > 20) job->log.erase(job->log.begin());
   }
   ::close(err_fd);
 }
@@ -202,17 +193,26 @@ bool read_worker_stdout(const std::shared_ptr<Job>& job, int out_fd) {
 }
 
 // How the worker ended (its wait status, whether it said DONE) as the
-// job's state and message: a crash names the function it crashed in.
-void record_end(Job& job, int status, bool done) {
+// job's state and message: a crash names the function it crashed in, and
+// its file and line where the build has debug information.
+void record_end(Job& job, int status, bool done, const std::string& exe, const std::string& source_dir) {
+  std::vector<ThreadPlace> place;
+  {
+    std::lock_guard<std::mutex> lock(job.mu);
+    place = job.crash_place;
+  }
+  const NamedPlace crashed =
+      WIFSIGNALED(status) && !place.empty() ? innermost_function(exe, source_dir, place) : NamedPlace{};
   std::lock_guard<std::mutex> lock(job.mu);
   const std::string doing = job.kind == "bvh" ? "building the BVH" : job.kind == "debug" ? "debugging" : "rendering";
   if (job.cancel_requested) {
     job.state = "cancelled";
+    job.message = job.cancel_reason;
   } else if (WIFSIGNALED(status)) {
     job.state = "crashed";
     const std::string sig = !job.crash_signal.empty() ? job.crash_signal : strsignal(WTERMSIG(status));
-    const std::string who = job.crash_function.empty() ? "the worker" : job.crash_function;
-    job.message = who + " crashed: " + sig + " while " + doing;
+    const std::string who = crashed.function.empty() ? "the worker" : crashed.function;
+    job.message = who + " crashed: " + sig + " while " + doing + (crashed.where.empty() ? "" : " (" + crashed.where + ")");
   } else if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && done) {
     job.state = "done";
   } else {
@@ -221,12 +221,20 @@ void record_end(Job& job, int status, bool done) {
       job.message = "the worker stopped while " + doing + " (exit status " +
                     std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")";
   }
+  job.stall_seconds = 0;
   job.cv.notify_all();
 }
 
-// Reads the worker's two streams until it ends, then records how it ended.
-void watch(std::shared_ptr<Job> job, int out_fd, int err_fd) {
-  std::thread err_reader([job, err_fd] { read_worker_stderr(job, err_fd); });
+}  // namespace
+
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Reads the worker's two streams until it ends, then records how it
+// ended and lets the stops waiting for it go on.
+void Workers::watch(std::shared_ptr<Job> job, int out_fd, int err_fd) {
+  std::thread err_reader([this, job, err_fd] { read_worker_stderr(job, err_fd, exe_, source_dir_); });
   const bool done = read_worker_stdout(job, out_fd);
   err_reader.join();
   pid_t pid;
@@ -238,31 +246,34 @@ void watch(std::shared_ptr<Job> job, int out_fd, int err_fd) {
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   ::kill(-pid, SIGKILL);  // anything it left behind in its group
-  record_end(*job, status, done);
+  record_end(*job, status, done, exe_, source_dir_);
+  std::lock_guard<std::mutex> lock(mu_);
+  alive_.erase(job);
+  gone_cv_.notify_all();
 }
 
-}  // namespace
-
-double now_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-void Workers::enter(const std::shared_ptr<Job>& job) {
+std::shared_ptr<Job> Workers::enter(const std::shared_ptr<Job>& job) {
   std::lock_guard<std::mutex> lock(mu_);
   job->id = ++next_id_;
-  // One job of each kind at a time: a new one stops the one before.
-  auto& previous = latest_[job->kind];
-  if (previous) cancel(previous);
-  previous = job;
-  if (job->kind == "render") current_ = job;
+  // One job of each kind at a time: a new one stops the one before, whose
+  // image is not kept any more (only the latest job of a kind has one).
+  std::shared_ptr<Job> previous = latest_[job->kind];
+  latest_[job->kind] = job;
+  if (previous) {
+    cancel(*previous, "replaced by a newer " + std::string(job->kind == "debug" ? "call" : "job"));
+    std::lock_guard<std::mutex> jl(previous->mu);
+    previous->frame.reset();
+    previous->bvh.reset();
+  }
   jobs_[job->id] = job;
-  // Keep the last few jobs' results for the page (and every kind's
+  // Keep the last few jobs' states for the page (and every kind's
   // latest); forget the rest.
   for (auto it = jobs_.begin(); jobs_.size() > 8 && it != jobs_.end();) {
     bool latest = false;
     for (const auto& [k, j] : latest_) latest = latest || j == it->second;
     it = latest ? std::next(it) : jobs_.erase(it);
   }
+  return previous;
 }
 
 std::shared_ptr<Job> Workers::start(const std::string& kind, const RenderOptions& opts,
@@ -271,7 +282,10 @@ std::shared_ptr<Job> Workers::start(const std::string& kind, const RenderOptions
   job->kind = kind;
   job->opts = opts;
   job->started = job->last_seen = now_seconds();
-  enter(job);
+  // Starts one at a time: concurrent requests each replace the one before,
+  // and the one before is gone before the next worker exists.
+  std::lock_guard<std::mutex> starting(start_mu_);
+  if (std::shared_ptr<Job> previous = enter(job)) stop_and_wait({previous}, "");
   std::vector<std::string> args = {exe_, "--worker", kind == "normals" ? "render" : kind};
   args.insert(args.end(), flags.begin(), flags.end());
   pid_t pid = -1;
@@ -283,10 +297,16 @@ std::shared_ptr<Job> Workers::start(const std::string& kind, const RenderOptions
     return job;
   }
   {
+    std::lock_guard<std::mutex> lock(mu_);
+    alive_.insert(job);
+  }
+  {
     std::lock_guard<std::mutex> lock(job->mu);
     job->pid = pid;
+    // Stopped while it was being started (the server stopping, say).
+    if (job->cancel_requested) ::kill(-pid, SIGKILL);
   }
-  std::thread([job, out_fd, err_fd] { watch(job, out_fd, err_fd); }).detach();
+  std::thread([this, job, out_fd, err_fd] { watch(job, out_fd, err_fd); }).detach();
   return job;
 }
 
@@ -296,37 +316,66 @@ std::shared_ptr<Job> Workers::find(uint64_t id) {
   return it == jobs_.end() ? nullptr : it->second;
 }
 
-std::shared_ptr<Job> Workers::current() {
-  std::lock_guard<std::mutex> lock(mu_);
-  return current_;
+void Workers::stop_and_wait(const std::vector<std::shared_ptr<Job>>& jobs, const std::string& reason) {
+  for (const auto& job : jobs) cancel(*job, reason);
+  std::unique_lock<std::mutex> lock(mu_);
+  // SIGKILL ends a process at once unless it is stuck in the kernel (a
+  // dead disk, say); the server does not hang on one: a minute at most.
+  gone_cv_.wait_for(lock, std::chrono::seconds(60), [&] {
+    for (const auto& job : jobs)
+      if (alive_.count(job)) return false;
+    return true;
+  });
 }
 
-void Workers::stop_current() {
-  std::lock_guard<std::mutex> lock(mu_);
-  if (current_) cancel(current_);
-}
-
-void Workers::stop_unwatched(double seconds) {
-  std::lock_guard<std::mutex> lock(mu_);
-  if (!current_) return;
-  bool stale;
+void Workers::stop_kind(const std::string& kind, const std::string& reason) {
+  std::vector<std::shared_ptr<Job>> jobs;
   {
-    std::lock_guard<std::mutex> jl(current_->mu);
-    stale = current_->state == "running" && now_seconds() - current_->last_seen > seconds;
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const auto& job : alive_)
+      if (job->kind == kind) jobs.push_back(job);
   }
-  if (stale) cancel(current_);
+  stop_and_wait(jobs, reason);
+}
+
+void Workers::stop(const std::shared_ptr<Job>& job, const std::string& reason) { stop_and_wait({job}, reason); }
+
+std::vector<std::shared_ptr<Job>> Workers::stop_unwatched(double seconds) {
+  std::vector<std::shared_ptr<Job>> stale;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const auto& job : alive_) {
+      std::lock_guard<std::mutex> jl(job->mu);
+      if (job->state == "running" && job->waiting_polls == 0 && now_seconds() - job->last_seen > seconds)
+        stale.push_back(job);
+    }
+  }
+  char why[96];
+  std::snprintf(why, sizeof why, "stopped: no page asked about it for %g s", seconds);
+  stop_and_wait(stale, why);
+  return stale;
 }
 
 void Workers::stop_all() {
-  std::lock_guard<std::mutex> lock(mu_);
-  for (auto& [id, job] : jobs_) cancel(job);
+  std::vector<std::shared_ptr<Job>> jobs;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    jobs.assign(alive_.begin(), alive_.end());
+  }
+  stop_and_wait(jobs, "the viewer is stopping");
 }
 
-void Workers::cancel(const std::shared_ptr<Job>& job) {
-  std::lock_guard<std::mutex> lock(job->mu);
-  if (job->state != "running") return;
-  job->cancel_requested = true;
-  if (job->pid > 0) ::kill(-job->pid, SIGKILL);
+size_t Workers::alive() {
+  std::lock_guard<std::mutex> lock(mu_);
+  return alive_.size();
+}
+
+void cancel(Job& job, const std::string& reason) {
+  std::lock_guard<std::mutex> lock(job.mu);
+  if (job.state != "running" || job.cancel_requested) return;
+  job.cancel_requested = true;
+  job.cancel_reason = reason;
+  if (job.pid > 0) ::kill(-job.pid, SIGKILL);
 }
 
 std::string job_json(Job& job) {
@@ -348,6 +397,9 @@ std::string job_json(Job& job) {
       << ",\"seconds\":" << num(h.num("seconds")) << ",\"elapsed\":" << num(h.num("elapsed"))
       << ",\"used_bvh\":" << (h.flag("used_bvh") ? "true" : "false") << "}";
   }
+  if (job.state == "running" && job.stall_seconds > 0)
+    s << ",\"stalled\":{\"seconds\":" << num(job.stall_seconds + (now_seconds() - job.stall_at))
+      << ",\"function\":" << json_quote(job.stall_function) << ",\"where\":" << json_quote(job.stall_where) << "}";
   s << ",\"wall\":" << num(now_seconds() - job.started) << "}";
   return s.str();
 }

@@ -56,6 +56,7 @@ std::vector<CaseResultField> make_fields() {
   f.push_back(text("message", &CaseResult::message));
   f.push_back(text("metric", &CaseResult::metric));
   f.push_back(number("relmse", &CaseResult::relmse, -1));
+  f.push_back(number("noise_ratio", &CaseResult::noise_ratio, -1));
   f.push_back(number("seconds", &CaseResult::seconds, 0));
   f.push_back(number("render_seconds", &CaseResult::render_seconds, -1));
   f.push_back(number("reference_seconds", &CaseResult::reference_seconds, -1));
@@ -82,6 +83,17 @@ std::vector<CaseResultField> make_fields() {
   f.push_back(number("triangles", &CaseResult::triangles, -1));
   f.push_back(number("part1_seconds", &CaseResult::part1_seconds, -1));
   f.push_back(number("speedup", &CaseResult::speedup, -1));
+  f.push_back({"signature",
+               [](const CaseResult& r) {
+                 Json o = pt::json_object();
+                 for (const auto& [key, value] : r.signature) o.set(key, pt::json_real(value));
+                 return o;
+               },
+               [](const Json& m, CaseResult* r) {
+                 r->signature.clear();
+                 for (const auto& [key, value] : m.members)
+                   if (value.type == Json::Type::Number) r->signature[key] = value.number;
+               }});
   f.push_back(text("command", &CaseResult::command));
   f.push_back({"scene", [](const CaseResult& r) { return pt::json_text(r.c.scene); },
                [](const Json& m, CaseResult* r) { r->c.scene = string_of(m); }});

@@ -3,6 +3,7 @@
 // writer and the reader.
 #pragma once
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@ struct CaseResult {
   std::string message;       // one line: why it passed or failed
   std::string metric;        // the statistics, short
   double relmse = -1;        // -1: not scored
+  double noise_ratio = -1;   // the candidate's variance over the reference's (-1: not measured)
   double seconds = 0;        // wall-clock of the candidate's render(s)
   double render_seconds = -1;   // the renderer's own figure, when reported
   double reference_seconds = -1;
@@ -39,6 +41,9 @@ struct CaseResult {
   double mrays_per_second = -1;
   double triangles = -1;
   double part1_seconds = -1, speedup = -1;  // speedup cases
+  // How the result differs from the reference, in noise-free figures
+  // (signature.h; cost ratios and what went wrong added by grade_case).
+  std::map<std::string, double> signature;
   std::string command;       // what was run
   std::string log;           // the candidate's output, sanitised excerpt
   std::string dir;           // where its files are (images for the HTML report)

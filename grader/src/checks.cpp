@@ -44,6 +44,7 @@ std::string image_problem(const ImageScore& img) {
 
 Check check_image(const ImageScore& image, double points) {
   Check k;
+  k.name = "image";
   k.metric = image.summary();
   k.credit = points;
   if (!image.passed) {
@@ -55,6 +56,7 @@ Check check_image(const ImageScore& image, double points) {
 
 Check check_rate_image(const ImageScore& rate, double points) {
   Check k;
+  k.name = "rate";
   k.metric = "; rate: " + rate.summary();
   k.credit = points;
   if (!rate.passed) {
@@ -69,9 +71,10 @@ Check check_rate_image(const ImageScore& rate, double points) {
   return k;
 }
 
-Check check_costs(const Json* stats, const QueryCosts& reference, const CostBounds& bounds, double points,
+Check check_costs(const Json* stats, int part, const CostBaseline& baseline, const CostBounds& bounds, double points,
                   QueryCosts* measured) {
   Check k;
+  k.name = "cost";
   if (!stats || stats->num("closest_queries", 0) <= 0) {
     k.problems.push_back("no ray counts (--stats-json stats.json)");
     return k;
@@ -85,36 +88,58 @@ Check check_costs(const Json* stats, const QueryCosts& reference, const CostBoun
   if (shadow_queries > 0) measured->shadow_tests = shadow_tests;
   measured->shadow_per_query = shadow_per_query;
 
-  const auto limit = [&](double ref) { return bounds.tests_factor * ref + bounds.tests_slack; };
+  // Part 2 is where the BVH is taught and graded; later parts only catch
+  // a BVH that is not there.
+  const bool taught = part == 2;
+  const double factor = taught ? bounds.part2_factor : bounds.pathological_factor;
+  const auto limit = [&](double base) { return factor * base + bounds.tests_slack; };
+  const QueryCosts& base = baseline.tests;
+  const std::string whose = baseline.plain ? "what a plain binary BVH needs here" : "the reference's";
+  const std::string label = baseline.plain ? "plain BVH" : "ref";
   if (tests <= 0)
     k.problems.push_back("no intersection tests counted: every primitive test counts into thread_ray_stats() "
                          "(see the part 2 contract)");
-  if (reference.closest_tests >= 0 && closest_tests > limit(reference.closest_tests))
-    k.problems.push_back(fmt("%.1f intersection tests per camera or bounce ray, ", closest_tests) +
-                         fmt("more than %.0fx the reference's ", bounds.tests_factor) +
-                         fmt("%.2f: the BVH does not cull", reference.closest_tests));
-  if (reference.shadow_tests >= 0 && shadow_queries > 0 && shadow_tests > limit(reference.shadow_tests))
-    k.problems.push_back(fmt("%.1f intersection tests per shadow ray, ", shadow_tests) +
-                         fmt("more than %.0fx the reference's ", bounds.tests_factor) +
-                         fmt("%.2f: the occlusion query does not cull (boxes beyond the light, or every "
-                             "primitive tested)",
-                             reference.shadow_tests));
-  if (reference.shadow_per_query > 0 && shadow_per_query > bounds.shadow_factor * reference.shadow_per_query)
+  if (base.closest_tests >= 0 && closest_tests > limit(base.closest_tests))
+    k.problems.push_back(
+        fmt("%.1f intersection tests per camera or bounce ray, ", closest_tests) +
+        fmt("more than %.0fx ", factor) + whose + fmt(" (%.2f)", base.closest_tests) +
+        (taught ? ": the BVH does not cull enough (are leaves small, and are boxes the ray misses skipped?)"
+                : ": the closest-hit query is not using the BVH"));
+  if (base.shadow_tests >= 0 && shadow_queries > 0 && shadow_tests > limit(base.shadow_tests))
+    k.problems.push_back(fmt("%.1f intersection tests per shadow ray, ", shadow_tests) + fmt("more than %.0fx ", factor) +
+                         whose +
+                         fmt(" (%.2f): the occlusion query does not use the BVH (every primitive tested?)",
+                             base.shadow_tests));
+  if (baseline.reference_shadow_per_query > 0 &&
+      shadow_per_query > bounds.shadow_factor * baseline.reference_shadow_per_query)
     k.problems.push_back(fmt("%.2f shadow rays per closest-hit query, ", shadow_per_query) +
-                         fmt("the reference needs %.2f: a delta light needs one sample, not -l, and a light "
-                             "below the surface none",
-                             reference.shadow_per_query));
-  k.metric = fmt("; tests per query %.2f", closest_tests) + fmt(" (ref %.2f)", reference.closest_tests);
+                         fmt("%.1fx the reference's ", shadow_per_query / baseline.reference_shadow_per_query) +
+                         fmt("%.2f: a point or directional light needs one sample, not -l", baseline.reference_shadow_per_query));
+  k.metric = fmt("; tests per query %.2f", closest_tests) + " (" + label + fmt(" %.2f)", base.closest_tests);
   if (shadow_queries > 0)
-    k.metric += fmt(", per shadow ray %.2f", shadow_tests) + fmt(" (ref %.2f)", reference.shadow_tests) +
-                fmt("; %.2f shadow rays per query", shadow_per_query) + fmt(" (ref %.2f)", reference.shadow_per_query);
+    k.metric += fmt(", per shadow ray %.2f", shadow_tests) + " (" + label + fmt(" %.2f)", base.shadow_tests) +
+                fmt("; %.2f shadow rays per query", shadow_per_query) +
+                fmt(" (ref %.2f)", baseline.reference_shadow_per_query);
   k.credit = k.problems.empty() ? points : 0;
+  return k;
+}
+
+Check check_noise(const ImageScore& image, double bound, double credit_share, const std::string& method,
+                  double points) {
+  Check k;
+  k.name = "noise";
+  k.credit = points;
+  if (image.noise_ratio < 0 || image.noise_ratio <= bound) return k;
+  k.problems.push_back(fmt("the image is right but too noisy: its variance is %.1fx ", image.noise_ratio) +
+                       "that of " + method + fmt(" at the same settings (at most %.0fx allowed)", bound));
+  k.credit = credit_share * points;
   return k;
 }
 
 Check check_speedup(const RenderOutput& part1, double render_seconds, double tests_per_ray, const CostBounds& bounds,
                     double points, double* part1_seconds, double* speedup) {
   Check k;
+  k.name = "speedup";
   *part1_seconds = part1.ok && part1.has_stats ? part1.stats.num("render_seconds", -1) : -1;
   if (!part1.ok) {
     k.problems.push_back("the --part 1 (no BVH) render failed: " + part1.failure);

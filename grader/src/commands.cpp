@@ -12,6 +12,7 @@
 #include "common/clock.h"
 #include "grader/src/compare.h"
 #include "grader/src/grade.h"
+#include "grader/src/hints.h"
 #include "common/image_io.h"
 #include "grader/src/reports.h"
 #include "grader/src/text.h"
@@ -32,6 +33,7 @@ void Common::add_to(CLI::App* app, bool with_binary) {
   app->add_option("--cases", cases, "The case list")->capture_default_str();
   app->add_option("--references", references, "The reference folder")->capture_default_str();
   app->add_option("--scenes", scenes, "Where the cases' scenes are")->capture_default_str();
+  app->add_option("--catalogue", catalogue, "The known bugs' signatures, for the report's hints")->capture_default_str();
   app->add_option("--part", parts, "Only these parts (repeatable)")->check(CLI::Range(1, 5));
   app->add_option("--case", names, "Only these cases (repeatable)");
   app->add_option("--shard", shard, "K/N: only the K-th of N equal slices of the cases (K = 1..N)");
@@ -117,13 +119,13 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
   std::mutex mu;
   int done = 0;
   const RunSettings run = common.run_settings();
-  const CostBounds bounds;
+  const Rules rules = make_rules(read_cases(common.cases), common.references);
   parallel_for(int(cases.size()), common.jobs, [&](int i) {
     const Case& c = cases[size_t(i)];
     const std::string dir = out + "/cases/" + c.name;
     CaseResult r;
     try {
-      r = grade_case(run, common.references, c, seed, dir, bounds);
+      r = grade_case(run, common.references, c, seed, dir, rules);
     } catch (const std::exception& e) {
       r.c = c;
       r.max_score = c.points;
@@ -152,11 +154,43 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
   info.jobs = common.jobs;
   info.threads = common.threads;
   info.seed = seed;
+  info.hints = run_hints(common, results);
   write_reports(out, results, info);
-  std::printf("\n%s", terminal_table(results).c_str());
+  std::printf("\n%s", terminal_table(results, info.hints).c_str());
   std::printf("Reports: %s/{report.txt,timing.md,results.json,report.html} (%.0f s)\n", out.c_str(),
               info.wall_seconds);
   return exit_code_for(results);
+}
+
+std::vector<std::string> run_hints(const Common& common, const std::vector<CaseResult>& results) {
+  std::error_code ec;
+  if (!fs::is_regular_file(common.catalogue, ec)) return {};
+  try {
+    return hint_lines(results, read_catalogue(common.catalogue), case_groups(read_cases(common.cases)));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "grader: no hints: %s\n", e.what());
+    return {};
+  }
+}
+
+int command_hints(const Common& common, const std::string& table) {
+  const Catalogue cat = read_catalogue(common.catalogue);
+  double function_rate = 0, part_rate = 0;
+  const std::string rows = leave_one_out_table(cat, case_groups(read_cases(common.cases)), &function_rate, &part_rate);
+  std::string s = "# Hints: does the grader name the right bug?\n\n"
+                  "Each known bug of the catalogue (`grader/known_bugs.json`: the mutants of "
+                  "`instructors/mutants/`, graded at commit " + cat.commit + ") is left out of it in turn, and its own "
+                  "signature is matched against the rest, as a student's build would be: up to three hints, one per "
+                  "function, nearest first, none farther than " + fmt("%.2f", kHintDistance) +
+                  ". Goals: the right function among the three for at least 80 % of the bugs, the right part for at "
+                  "least 95 %.\n\nMade by `grader hints --leave-one-out` at commit " + git_commit() + " on " +
+                  utc_now() + ".\n\n" + rows;
+  if (!table.empty()) {
+    fs::create_directories(fs::path(table).parent_path());
+    write_text(table, s);
+  }
+  std::printf("%s", s.c_str());
+  return function_rate >= 0.8 && part_rate >= 0.95 ? kAllPassed : kSomeFailed;
 }
 
 int command_merge(const Common& common, const std::string& out, const std::vector<std::string>& shard_dirs) {
@@ -189,8 +223,9 @@ int command_merge(const Common& common, const std::string& out, const std::vecto
   info.pathtracer = "(merged from " + std::to_string(shard_dirs.size()) + " shards)";
   info.started = utc_now();
   for (const auto& r : results) info.wall_seconds += r.seconds;
+  info.hints = run_hints(common, results);
   write_reports(out, results, info);
-  std::printf("%s", terminal_table(results).c_str());
+  std::printf("%s", terminal_table(results, info.hints).c_str());
   return exit_code_for(results);
 }
 
@@ -207,17 +242,17 @@ std::string as_typed(const std::string& path) {
 
 }  // namespace
 
-int command_compare(const Common& common, bool list, const std::string& name, const std::string& file,
+int command_compare(const Common& common, bool list, const std::string& name, const std::vector<std::string>& files,
                     const std::string& out) {
   const std::vector<Case> cases = read_cases(common.cases);
   if (list) {
     print_case_commands(cases, as_typed(common.pathtracer), as_typed(common.scenes));
     return kAllPassed;
   }
-  if (name.empty() || file.empty())
+  if (name.empty() || files.empty())
     throw std::runtime_error("compare: give a case and your render (grader compare CASE FILE), or --list");
   for (const Case& c : cases)
-    if (c.name == name) return compare_render(c, common.references, file, out);
+    if (c.name == name) return compare_render(c, common.references, files, out, make_rules(cases, common.references));
   throw std::runtime_error(common.cases + ": no case named '" + name + "' (grader compare --list shows them)");
 }
 

@@ -30,6 +30,7 @@ struct Common {
   std::string cases = std::string(PT_SOURCE_DIR) + "/grader/cases.txt";
   std::string references = std::string(PT_SOURCE_DIR) + "/reference_images";
   std::string scenes = std::string(PT_SOURCE_DIR) + "/scenes";
+  std::string catalogue = std::string(PT_SOURCE_DIR) + "/grader/known_bugs.json";
   std::vector<int> parts;
   std::vector<std::string> names;
   std::string shard;  // "K/N"
@@ -66,12 +67,20 @@ int exit_code_for(const std::vector<CaseResult>& results);
 std::string git_commit();
 
 int command_run(const Common& common, const std::string& out, uint64_t seed, bool quiet);
+// The report's hint lines for these results (none when the catalogue is
+// missing: hints are a help, not a verdict).
+std::vector<std::string> run_hints(const Common& common, const std::vector<CaseResult>& results);
+int command_hints(const Common& common, const std::string& table);
 int command_merge(const Common& common, const std::string& out, const std::vector<std::string>& shard_dirs);
-int command_compare(const Common& common, bool list, const std::string& name, const std::string& file,
+int command_compare(const Common& common, bool list, const std::string& name, const std::vector<std::string>& files,
                     const std::string& out);
 int command_make_references(const Common& common, int runs, bool force, int retime, const std::string& work);
-int command_calibrate(const Common& common, int seeds, uint64_t first_seed, const std::string& table,
-                      const std::string& work);
+// A build to calibrate: a name for the table and its pathtracer.
+struct Build {
+  std::string name, pathtracer;
+};
+int command_calibrate(const Common& common, const std::vector<Build>& extra_builds, int seeds, uint64_t first_seed,
+                      const std::string& table, const std::string& work);
 
 }  // namespace cli
 }  // namespace grader

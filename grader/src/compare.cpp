@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 
 void print_case_commands(const std::vector<Case>& cases, const std::string& pathtracer, const std::string& scenes) {
   std::printf("The grading cases and the commands that render them (add -t N for N threads: the image does not\n"
-              "depend on it). Then: grader compare CASE CASE.pfm (or CASE.png)\n\n");
+              "depend on it). Then: grader compare CASE CASE.pfm (or CASE.png); the grader judges a Monte Carlo\n"
+              "image with several renders at different --seed values: grader compare CASE a.pfm b.pfm c.pfm d.pfm\n\n");
   for (const Case& c : cases) {
     std::string cmd = pathtracer + " --part " + std::to_string(c.part);
     for (size_t i = 0; i < c.options.size(); ++i) {
@@ -83,18 +84,29 @@ ImageBuffer read_candidate(const Case& c, const Reference& ref, const std::strin
   return mine;
 }
 
-// A PFM gets the grader's own image statistics and a verdict.
-Comparison compare_pfm(const Case& c, const Reference& ref, const std::string& file, const ImageBuffer& mine) {
+// PFMs get the grader's own image statistics and a verdict.
+Comparison compare_pfm(const Case& c, const Reference& ref, const std::vector<std::string>& files,
+                       const std::vector<ImageBuffer>& renders, const Rules& rules) {
   Comparison r;
-  const int w = mine.width, h = mine.height;
-  int fx = 0, fy = 0;
-  if (const int bad = count_non_finite(mine, &fx, &fy))
-    throw std::runtime_error(file + ": " + std::to_string(bad) + " pixels are NaN or infinite (the first at x=" +
-                             std::to_string(fx) + ", y=" + std::to_string(fy) + " from the top)");
-  const ImageScore s = score_image(mine, ref.mean, ref.variance, ref.runs, case_score_options(c, ref));
+  const int w = renders[0].width, h = renders[0].height;
+  for (size_t i = 0; i < renders.size(); ++i) {
+    int fx = 0, fy = 0;
+    if (const int bad = count_non_finite(renders[i], &fx, &fy))
+      throw std::runtime_error(files[i] + ": " + std::to_string(bad) + " pixels are NaN or infinite (the first at x=" +
+                               std::to_string(fx) + ", y=" + std::to_string(fy) + " from the top)");
+  }
+  CandidateRenders cand;
+  cand.images = renders;
+  const ImageScore s = score_renders(cand, ref.mean, ref.variance, ref.runs, case_score_options(c, ref, rules));
+  const ImageBuffer mine = mean_of(renders);
   r.verdict = s.passed ? "matches the reference" : "differs from the reference";
   r.status = s.passed ? 0 : 1;
   r.lines.push_back(s.summary());
+  if (!s.deterministic)
+    r.lines.push_back(renders.size() > 1
+                          ? "judged with your renders' own noise (their spread), as grader run judges a build"
+                          : "one render: judged with the reference's noise; give " + std::to_string(rules.renders) +
+                                " renders at different --seed values to be judged with your own, as grader run does");
   r.lines.push_back(fmt("mean radiance %.4g", s.mean_candidate) + fmt(" (reference %.4g)", s.mean_reference));
   r.lines.push_back("the grader also checks the costs and, for adaptive cases, the sample-rate image: grader run "
                     "--case " + c.name);
@@ -146,14 +158,21 @@ Comparison compare_png(const Reference& ref, const Picture& reference, const Ima
 
 }  // namespace
 
-int compare_render(const Case& c, const std::string& references, const std::string& file, const std::string& out_dir) {
+int compare_render(const Case& c, const std::string& references, const std::vector<std::string>& files,
+                   const std::string& out_dir, const Rules& rules) {
   Reference ref;
   std::string why;
   if (!load_reference(references, c, &ref, &why)) throw std::runtime_error(c.name + ": " + why);
+  if (files.empty()) throw std::runtime_error("compare: no render given");
+  std::vector<ImageBuffer> renders;
   bool pfm = false;
-  const ImageBuffer mine = read_candidate(c, ref, file, &pfm);
+  for (const std::string& file : files) {
+    renders.push_back(read_candidate(c, ref, file, &pfm));
+    if (!pfm && files.size() > 1) throw std::runtime_error(file + ": several renders must all be .pfm files");
+  }
+  const std::string& file = files[0];
   const Picture reference = radiance_picture(ref.mean);
-  const Comparison r = pfm ? compare_pfm(c, ref, file, mine) : compare_png(ref, reference, mine);
+  const Comparison r = pfm ? compare_pfm(c, ref, files, renders, rules) : compare_png(ref, reference, renders[0]);
 
   std::error_code ec;
   fs::create_directories(out_dir, ec);
@@ -161,7 +180,8 @@ int compare_render(const Case& c, const std::string& references, const std::stri
   const std::string png_name = "compare_" + c.name + ".png";
   save_picture(out_dir + "/" + png_name, side_by_side({r.yours, reference, r.difference}, 4));
   const std::string page = out_dir + "/compare_" + c.name + ".html";
-  write_page(page, c, file, png_name, r.verdict, r.lines);
+  write_page(page, c, files.size() > 1 ? file + " and " + std::to_string(files.size() - 1) + " more" : file, png_name,
+             r.verdict, r.lines);
 
   std::printf("%s: %s\n", c.name.c_str(), r.verdict.c_str());
   for (const std::string& l : r.lines) std::printf("  %s\n", l.c_str());

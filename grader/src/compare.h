@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "grader/src/case_list.h"
+#include "grader/src/rules.h"
 
 namespace grader {
 
@@ -15,12 +16,16 @@ namespace grader {
 // should type them).
 void print_case_commands(const std::vector<Case>& cases, const std::string& pathtracer, const std::string& scenes);
 
-// Compares FILE (.pfm: the grader's statistics and a verdict; .png: an
-// 8-bit comparison, no verdict) with the reference of `c`; writes
-// OUT/compare_<case>.png (render | reference | difference) and
+// Compares FILES with the reference of `c`: one .png (an 8-bit comparison,
+// no verdict), one .pfm (the grader's statistics with the reference's
+// noise standing in for yours, and a verdict) or several .pfm renders of
+// the case at different seeds (judged with their own noise, as `grader
+// run` judges a build: the verdict the grader would give the image).
+// Writes OUT/compare_<case>.png (render | reference | difference) and
 // OUT/compare_<case>.html, and prints a summary. Returns the exit status:
 // 0 matches (or a PNG compared), 1 differs. Throws std::runtime_error
 // naming the file for bad input (unreadable, wrong size, no reference).
-int compare_render(const Case& c, const std::string& references, const std::string& file, const std::string& out_dir);
+int compare_render(const Case& c, const std::string& references, const std::vector<std::string>& files,
+                   const std::string& out_dir, const Rules& rules);
 
 }  // namespace grader

@@ -22,11 +22,15 @@ struct Options {
   std::string work = "build/grader_work";  // make-references, calibrate
   int retime = 0;
   int seeds = 50;  // calibrate
+  std::vector<std::string> builds;  // calibrate: NAME=PATH
   uint64_t first_seed = 2000;
   std::string table = std::string(PT_SOURCE_DIR) + "/grader/tables/calibration.md";
-  std::string compare_case, compare_file, compare_out = ".";  // compare
+  std::string compare_case, compare_out = ".";
+  std::vector<std::string> compare_files;  // compare
   bool list = false;
   std::vector<std::string> shard_dirs;  // merge
+  bool leave_one_out = false;  // hints
+  std::string hints_table = std::string(PT_SOURCE_DIR) + "/grader/tables/hints.md";
 };
 
 CLI::App* add_run(CLI::App& app, Common& common, Options& o) {
@@ -51,10 +55,13 @@ CLI::App* add_make_references(CLI::App& app, Common& common, Options& o) {
 }
 
 CLI::App* add_calibrate(CLI::App& app, Common& common, Options& o) {
-  CLI::App* calibrate = app.add_subcommand("calibrate", "Grade the reference build at many seeds: false-failure rates");
+  CLI::App* calibrate = app.add_subcommand("calibrate", "Grade correct builds at many seeds: false-failure rates");
   common.add_to(calibrate, true);
   calibrate->add_option("--seeds", o.seeds, "Seeds per case")->check(CLI::Range(1, 100000))->capture_default_str();
   calibrate->add_option("--first-seed", o.first_seed, "The first seed")->capture_default_str();
+  calibrate->add_option("--build", o.builds,
+                        "NAME=PATH: another correct build to calibrate beside --pathtracer (a legal variant's "
+                        "pathtracer); repeatable");
   calibrate->add_option("--table", o.table, "Where the table goes")->capture_default_str();
   calibrate->add_option("--work", o.work, "Scratch folder")->capture_default_str();
   return calibrate;
@@ -64,13 +71,25 @@ CLI::App* add_compare(CLI::App& app, Common& common, Options& o) {
   CLI::App* compare = app.add_subcommand(
       "compare", "Compare your render of a case (PFM or PNG) with its reference; --list prints the cases' commands");
   compare->add_option("case", o.compare_case, "The case your render is of (see --list)");
-  compare->add_option("file", o.compare_file, "Your render: a .pfm (full statistics) or a .png (8-bit comparison)");
+  compare->add_option("files", o.compare_files,
+                      "Your render: a .pfm (full statistics) or a .png (8-bit comparison); several .pfm renders at "
+                      "different seeds are judged with their own noise, as grader run does");
   compare->add_flag("--list", o.list, "Print every case with the command that renders it");
   compare->add_option("-o,--out", o.compare_out, "Where compare_CASE.png and .html go")->capture_default_str();
   compare->add_option("--cases", common.cases, "The case list")->capture_default_str();
   compare->add_option("--references", common.references, "The reference folder")->capture_default_str();
   compare->add_option("--scenes", common.scenes, "Where the cases' scenes are")->capture_default_str();
   return compare;
+}
+
+CLI::App* add_hints(CLI::App& app, Common& common, Options& o) {
+  CLI::App* hints = app.add_subcommand(
+      "hints", "Leave-one-out over the known bugs: does each bug's signature name its function and part?");
+  hints->add_option("--catalogue", common.catalogue, "The known bugs' signatures")->capture_default_str();
+  hints->add_option("--cases", common.cases, "The case list (the cases' groups)")->capture_default_str();
+  hints->add_flag("--leave-one-out", o.leave_one_out, "Match each bug against the others (the only mode)");
+  hints->add_option("--table", o.hints_table, "Where the table goes")->capture_default_str();
+  return hints;
 }
 
 CLI::App* add_merge(CLI::App& app, Common& common, Options& o) {
@@ -93,6 +112,7 @@ int main(int argc, char** argv) {
   CLI::App* calibrate = add_calibrate(app, common, o);
   CLI::App* compare = add_compare(app, common, o);
   CLI::App* merge = add_merge(app, common, o);
+  CLI::App* hints = add_hints(app, common, o);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -104,9 +124,19 @@ int main(int argc, char** argv) {
   try {
     if (*run) return command_run(common, o.out, o.seed, o.quiet);
     if (*make) return command_make_references(common, o.runs, o.force, o.retime, o.work);
-    if (*calibrate) return command_calibrate(common, o.seeds, o.first_seed, o.table, o.work + "/calibrate");
+    if (*calibrate) {
+      std::vector<Build> builds;
+      for (const std::string& b : o.builds) {
+        const size_t eq = b.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == b.size())
+          throw std::runtime_error("--build " + b + ": expected NAME=PATH");
+        builds.push_back({b.substr(0, eq), b.substr(eq + 1)});
+      }
+      return command_calibrate(common, builds, o.seeds, o.first_seed, o.table, o.work + "/calibrate");
+    }
     if (*merge) return command_merge(common, o.out, o.shard_dirs);
-    if (*compare) return command_compare(common, o.list, o.compare_case, o.compare_file, o.compare_out);
+    if (*hints) return command_hints(common, o.hints_table);
+    if (*compare) return command_compare(common, o.list, o.compare_case, o.compare_files, o.compare_out);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grader: %s\n", e.what());
     return kUsageError;

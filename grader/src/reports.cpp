@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/image_io.h"
+#include "grader/src/findings.h"
 #include "grader/src/text.h"
 
 namespace grader {
@@ -102,7 +103,14 @@ std::string columns(const std::vector<std::vector<std::string>>& rows, const std
 
 }  // namespace
 
-std::string terminal_table(const std::vector<CaseResult>& rs) {
+std::string findings_text(const std::vector<CaseResult>& rs, const std::vector<std::string>& hints) {
+  std::string s;
+  for (const std::string& f : run_findings(rs)) s += "Noticed: " + f + "\n";
+  for (const std::string& h : hints) s += h + "\n";
+  return s;
+}
+
+std::string terminal_table(const std::vector<CaseResult>& rs, const std::vector<std::string>& hints) {
   std::vector<std::vector<std::string>> rows;
   rows.push_back({"part", "case", "verdict", "score", "relMSE", "time", "time ratio", "detail"});
   for (const auto& r : rs) {
@@ -136,6 +144,8 @@ std::string terminal_table(const std::vector<CaseResult>& rs) {
   s << passed << "/" << rs.size() << " cases passed; score " << fmt("%.2f", t) << " / " << fmt("%g", m) << " ("
     << fmt("%.1f", m > 0 ? 100 * t / m : 0) << "%)\n";
   s << "time ratio = the render's time / the reference's recorded time (1.00x = as fast; machines differ)\n";
+  const std::string noticed = findings_text(rs, hints);
+  if (!noticed.empty()) s << "\n" << noticed;
   return s.str();
 }
 
@@ -198,7 +208,8 @@ std::string gradescope_json(const std::vector<CaseResult>& rs, const RunInfo& in
   Json results = pt::json_object();
   results.set("score", json_real(total(rs, false)))
       .set("output", json_text("Graded " + std::to_string(rs.size()) + " cases in " + fmt("%.0f", info.wall_seconds) +
-                               " s."))
+                               " s." + (findings_text(rs, info.hints).empty() ? std::string()
+                                                                              : "\n" + findings_text(rs, info.hints))))
       .set("visibility", json_text("visible"))
       .set("stdout_visibility", json_text("visible"))
       .set("tests", pt::json_array(tests));
@@ -220,6 +231,8 @@ std::string html_report(const std::vector<CaseResult>& rs, const RunInfo& info) 
     << html_escape(info.started) << "; " << fmt("%.0f", info.wall_seconds) << " s; seed " << info.seed << ".</p>\n";
   s << "<p><strong>Score " << fmt("%.2f", t) << " / " << fmt("%g", m) << " (" << fmt("%.1f", m > 0 ? 100 * t / m : 0)
     << "%)</strong></p>\n";
+  for (const std::string& f : run_findings(rs)) s << "<p class=\"noticed\"><strong>Noticed:</strong> " << html_escape(f) << "</p>\n";
+  for (const std::string& h : info.hints) s << "<p class=\"hint\">" << html_escape(h) << "</p>\n";
   s << "<table><tr><th>part</th><th>case</th><th>verdict</th><th>score</th><th>relMSE</th><th>time</th><th>time ratio</th><th>detail</th></tr>\n";
   for (const auto& r : rs)
     s << "<tr><td>" << r.c.part << "</td><td><a href=\"#" << r.c.name << "\">" << r.c.name << "</a></td><td class=\""
@@ -256,7 +269,7 @@ std::string html_report(const std::vector<CaseResult>& rs, const RunInfo& info) 
 }
 
 void write_reports(const std::string& dir, const std::vector<CaseResult>& rs, const RunInfo& info) {
-  write_text(dir + "/report.txt", terminal_table(rs));
+  write_text(dir + "/report.txt", terminal_table(rs, info.hints));
   write_text(dir + "/timing.md", timing_tables(rs));
   write_text(dir + "/results.json", gradescope_json(rs, info));
   write_text(dir + "/report.html", html_report(rs, info));

@@ -19,9 +19,12 @@ struct RunInfo {
   double wall_seconds = 0;
   int jobs = 1, threads = 1;
   unsigned long long seed = 1;
+  // "Likely cause ..." lines from the known bugs' signatures (hints.h).
+  std::vector<std::string> hints;
 };
 
-std::string terminal_table(const std::vector<CaseResult>& results);
+// The table, the points per part, what the run noticed and the hints.
+std::string terminal_table(const std::vector<CaseResult>& results, const std::vector<std::string>& hints = {});
 std::string timing_tables(const std::vector<CaseResult>& results);
 std::string gradescope_json(const std::vector<CaseResult>& results, const RunInfo& info);
 std::string html_report(const std::vector<CaseResult>& results, const RunInfo& info);

@@ -24,6 +24,15 @@ double sidak_level(double alpha, int n) {
   return -std::expm1(std::log1p(-alpha) / std::max(n, 1));
 }
 
+double level_for_at_least(double alpha, int n, int at_least) {
+  // P(k or more of n fail) <= C(n, k) p^k, so p = (alpha / C(n, k))^(1/k);
+  // k = 1 is the union bound (about Sidak's level).
+  const int k = std::clamp(at_least, 1, std::max(n, 1));
+  double log_choose = 0;
+  for (int i = 0; i < k; ++i) log_choose += std::log(double(n - i)) - std::log(double(i + 1));
+  return std::min(1.0, std::exp((std::log(alpha) - log_choose) / k));
+}
+
 int count_non_finite(const ImageBuffer& img, int* first_x, int* first_y) {
   int n = 0;
   for (int y = 0; y < img.height; ++y)
@@ -73,44 +82,98 @@ ImageScore score_by_value(const ImageBuffer& cand, const ImageBuffer& mean, cons
   return s;
 }
 
-// The variance a candidate pixel channel is judged by: the larger of the
-// reference's and its 3x3 neighbourhood mean, times 1 + 1/B, at least the
-// floor. A pixel whose rare paths (a firefly, the fifth bounce alone) never
-// showed in the B reference renders has its variance underestimated, often
-// as 0. Neighbouring pixels see nearly the same paths, so each pixel's
-// variance is taken as at least the mean over its 3x3 neighbourhood:
-// conservative, and robust to such holes.
-class JudgedVariance {
+// A per-pixel-channel field (rows from the top), pooled: each value taken
+// as at least the mean over its 3x3 neighbourhood. A pixel whose rare
+// paths (a firefly, the fifth bounce alone) never showed in the renders
+// that estimated its variance has it underestimated, often as 0;
+// neighbouring pixels see nearly the same paths, so the pooled value is a
+// conservative repair, and it gives a variance estimated from few renders
+// nine times the degrees of freedom.
+class ChannelField {
  public:
-  JudgedVariance(const ImageBuffer& var, int nc, int runs, double floor)
-      : w_(var.width), nc_(nc), inflate_(1.0 + 1.0 / std::max(runs, 1)), floor_(floor),
-        v3_(size_t(var.width) * var.height * nc) {
-    const int h = var.height;
-    for (int y = 0; y < h; ++y)
+  ChannelField(int w, int h, int nc) : w_(w), h_(h), nc_(nc), v_(size_t(w) * h * nc, 0.0) {}
+  double& operator()(int x, int y, int c) { return v_[index(x, y, c)]; }
+  double operator()(int x, int y, int c) const { return v_[index(x, y, c)]; }
+  ChannelField pooled() const {
+    ChannelField out(w_, h_, nc_);
+    for (int y = 0; y < h_; ++y)
       for (int x = 0; x < w_; ++x)
-        for (int c = 0; c < nc; ++c) {
+        for (int c = 0; c < nc_; ++c) {
           double sum = 0;
           int n = 0;
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int xx = x + dx, yy = y + dy;
-              if (xx < 0 || yy < 0 || xx >= w_ || yy >= h) continue;
-              sum += value_from_top(var, xx, yy, c);
+          for (int yy = std::max(0, y - 1); yy <= std::min(h_ - 1, y + 1); ++yy)
+            for (int xx = std::max(0, x - 1); xx <= std::min(w_ - 1, x + 1); ++xx) {
+              sum += (*this)(xx, yy, c);
               ++n;
             }
-          v3_[index(x, y, c)] = float(std::max(double(value_from_top(var, x, y, c)), sum / n));
+          out(x, y, c) = std::max((*this)(x, y, c), sum / n);
         }
+    return out;
   }
-  double inflate() const { return inflate_; }
-  // sigma^2 of pixel (x, row y from the top), channel c.
-  double operator()(int x, int y, int c) const { return std::max(double(v3_[index(x, y, c)]) * inflate_, floor_); }
 
  private:
   size_t index(int x, int y, int c) const { return (size_t(y) * w_ + x) * nc_ + c; }
-  int w_, nc_;
-  double inflate_, floor_;
-  std::vector<float> v3_;  // rows from the top
+  int w_, h_, nc_;
+  std::vector<double> v_;
 };
+
+// What the tests need of the candidate and the reference, per pixel
+// channel (rows from the top): the difference c - m, the variance it is
+// judged by, and the raw variances behind it (relMSE, noise ratio).
+struct Differences {
+  int w, h, nc, renders;
+  ChannelField d, sigma2, expected, candidate_case_var, reference_var;
+  Differences(int w_, int h_, int nc_)
+      : w(w_), h(h_), nc(nc_), renders(1), d(w_, h_, nc_), sigma2(w_, h_, nc_), expected(w_, h_, nc_),
+        candidate_case_var(w_, h_, nc_), reference_var(w_, h_, nc_) {}
+};
+
+Differences differences(const CandidateRenders& cand, const ImageBuffer& mean, const ImageBuffer& var, int runs,
+                        const ScoreOptions& opts) {
+  const int w = mean.width, h = mean.height, nc = std::clamp(opts.channels, 1, 3);
+  const int k = int(cand.images.size());
+  Differences D(w, h, nc);
+  D.renders = k;
+  ChannelField u(w, h, nc), raw_u(w, h, nc);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < nc; ++c) {
+        // Two passes over the renders: their mean, then their spread.
+        double sum = 0;
+        for (const ImageBuffer& img : cand.images) sum += value_from_top(img, x, y, c);
+        const double cbar = sum / k;
+        double ss = 0;
+        for (const ImageBuffer& img : cand.images) {
+          const double e = value_from_top(img, x, y, c) - cbar;
+          ss += e * e;
+        }
+        const double s2 = k > 1 ? ss / (k - 1) : 0.0;
+        D.d(x, y, c) = cbar - value_from_top(mean, x, y, c);
+        D.reference_var(x, y, c) = value_from_top(var, x, y, c);
+        u(x, y, c) = s2 / k;  // the variance of the renders' mean
+        D.candidate_case_var(x, y, c) = s2 * cand.share;
+      }
+  const ChannelField vr = D.reference_var.pooled();
+  const double b = std::max(runs, 1);
+  if (k > 1) {
+    const ChannelField pu = u.pooled();
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < nc; ++c) {
+          D.sigma2(x, y, c) = std::max(pu(x, y, c) + vr(x, y, c) / b, opts.variance_floor);
+          D.expected(x, y, c) = u(x, y, c) + D.reference_var(x, y, c) / b;
+        }
+  } else {
+    // One render: the reference's variance stands in for the candidate's.
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < nc; ++c) {
+          D.sigma2(x, y, c) = std::max(vr(x, y, c) * (1.0 + 1.0 / b), opts.variance_floor);
+          D.expected(x, y, c) = D.reference_var(x, y, c) * (1.0 + 1.0 / b);
+        }
+  }
+  return D;
+}
 
 // The image mean per channel: pixels are independent, so the mean
 // difference's variance is the sum of the pixels' over their count^2.
@@ -131,12 +194,14 @@ void image_mean_test(const double channel_d[3], const double channel_v[3], int n
 
 // Per 8x8 block and channel, from the top-left corner. Returns whether
 // fewer than min_blocks_to_fail distinct blocks failed.
-bool block_test(const ImageBuffer& cand, const ImageBuffer& mean, const JudgedVariance& sigma2, int nc,
-                const ScoreOptions& opts, ImageScore* s) {
-  const int w = cand.width, h = cand.height, bs = opts.block_size;
+bool block_test(const Differences& D, const ScoreOptions& opts, ImageScore* s) {
+  const int w = D.w, h = D.h, nc = D.nc, bs = opts.block_size;
   const int bx = (w + bs - 1) / bs, by = (h + bs - 1) / bs;
   s->blocks_tested = bx * by * nc;
-  s->block_threshold = normal_two_sided_threshold(sidak_level(opts.alpha, s->blocks_tested));
+  // A block fails when any of its channels does (Sidak over them), and
+  // the image when min_blocks_to_fail distinct blocks do.
+  const double block_level = level_for_at_least(opts.block_alpha, bx * by, opts.min_blocks_to_fail);
+  s->block_threshold = normal_two_sided_threshold(sidak_level(block_level, nc));
   for (int j = 0; j < by; ++j)
     for (int i = 0; i < bx; ++i) {
       bool block_off = false;
@@ -149,8 +214,8 @@ bool block_test(const ImageBuffer& cand, const ImageBuffer& mean, const JudgedVa
             // deviations (winsorised): one firefly, which the pixel test
             // already allows, cannot fail a block, while a bias shared by
             // the block's pixels passes through nearly unchanged.
-            const double s2 = sigma2(x, y, c), limit = opts.block_clamp * std::sqrt(s2);
-            d += std::clamp(double(value_from_top(cand, x, y, c)) - value_from_top(mean, x, y, c), -limit, limit);
+            const double s2 = D.sigma2(x, y, c), limit = opts.block_clamp * std::sqrt(s2);
+            d += std::clamp(D.d(x, y, c), -limit, limit);
             v += s2;
             ++count;
           }
@@ -173,46 +238,85 @@ bool block_test(const ImageBuffer& cand, const ImageBuffer& mean, const JudgedVa
   return s->distinct_blocks_failed < opts.min_blocks_to_fail;
 }
 
+// The candidate's variance at the case's settings over the reference's,
+// each pixel channel's share capped at noise_cap times the reference's.
+double noise_ratio(const Differences& D, const ScoreOptions& opts) {
+  if (D.renders < 2) return -1;
+  double num = 0, den = 0;
+  for (int y = 0; y < D.h; ++y)
+    for (int x = 0; x < D.w; ++x)
+      for (int c = 0; c < D.nc; ++c) {
+        const double vr = D.reference_var(x, y, c);
+        num += std::min(D.candidate_case_var(x, y, c), opts.noise_cap * std::max(vr, opts.variance_floor));
+        den += vr;
+      }
+  // A reference without noise to speak of (a point light at -s 4) has no
+  // noise to compare with.
+  return den > opts.variance_floor * D.w * D.h * D.nc * 1e-2 ? num / den : -1;
+}
+
 }  // namespace
+
+ImageBuffer mean_of(const std::vector<ImageBuffer>& images) {
+  if (images.empty()) return ImageBuffer();
+  ImageBuffer out(images[0].width, images[0].height);
+  for (size_t i = 0; i < out.pixels.size(); ++i) {
+    double sum[3] = {0, 0, 0};
+    for (const ImageBuffer& img : images)
+      for (int c = 0; c < 3; ++c) sum[c] += img.pixels[i][c];
+    for (int c = 0; c < 3; ++c) out.pixels[i][c] = float(sum[c] / double(images.size()));
+  }
+  return out;
+}
 
 ImageScore score_image(const ImageBuffer& cand, const ImageBuffer& mean, const ImageBuffer& var, int runs,
                        const ScoreOptions& opts) {
-  if (opts.deterministic) return score_by_value(cand, mean, opts);
+  CandidateRenders one;
+  one.images.push_back(cand);
+  return score_renders(one, mean, var, runs, opts);
+}
+
+ImageScore score_renders(const CandidateRenders& cand, const ImageBuffer& mean, const ImageBuffer& var, int runs,
+                         const ScoreOptions& opts) {
+  if (cand.images.empty()) throw std::invalid_argument("score_renders: no candidate render");
+  if (opts.deterministic) return score_by_value(cand.images[0], mean, opts);
   ImageScore s;
-  const int w = cand.width, h = cand.height, nc = std::clamp(opts.channels, 1, 3);
-  const JudgedVariance sigma2(var, nc, runs, opts.variance_floor);
+  const Differences D = differences(cand, mean, var, runs, opts);
+  const int w = D.w, h = D.h, nc = D.nc;
+  s.renders = D.renders;
+  s.own_variance = D.renders > 1;
 
   // Per pixel channel, with the sums the image mean and relMSE need.
   s.channels_tested = w * h * nc;
   s.pixel_threshold = normal_two_sided_threshold(sidak_level(opts.alpha, s.channels_tested));
   s.pixel_z.assign(size_t(w) * h, 0.0f);
-  double sum_c = 0, sum_m = 0, rel = 0, rel_expected = 0;
+  double sum_m = 0, rel = 0, rel_expected = 0;
   double channel_d[3] = {0, 0, 0}, channel_v[3] = {0, 0, 0};
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < nc; ++c) {
-        const double cv = value_from_top(cand, x, y, c), mv = value_from_top(mean, x, y, c), d = cv - mv;
+        const double d = D.d(x, y, c), s2 = D.sigma2(x, y, c), mv = value_from_top(mean, x, y, c);
         channel_d[c] += d;
-        channel_v[c] += sigma2(x, y, c);
-        const double z = std::max(0.0, std::fabs(d) - opts.pixel_slack) / std::sqrt(sigma2(x, y, c));
+        channel_v[c] += s2;
+        const double z = std::max(0.0, std::fabs(d) - opts.pixel_slack) / std::sqrt(s2);
         if (z > s.pixel_threshold) ++s.channels_failed;
         float& pz = s.pixel_z[size_t(y) * w + x];
         pz = std::max(pz, float(z));
-        sum_c += cv;
         sum_m += mv;
         const double denom = mv * mv + 0.01;
         rel += d * d / denom;
-        rel_expected += double(value_from_top(var, x, y, c)) * sigma2.inflate() / denom;
+        rel_expected += D.expected(x, y, c) / denom;
       }
   const double n = double(s.channels_tested);
-  s.mean_candidate = sum_c / n;
   s.mean_reference = sum_m / n;
+  s.mean_candidate = (sum_m + channel_d[0] + channel_d[1] + channel_d[2]) / n;
   s.relmse = rel / n;
   s.relmse_expected = rel_expected / n;
+  s.noise_ratio = noise_ratio(D, opts);
   const bool pixels_ok = s.channels_failed <= (1.0 - opts.min_pass_fraction) * n;
 
   if (opts.mean_test) image_mean_test(channel_d, channel_v, nc, opts, &s);
-  const bool blocks_ok = !opts.block_test || block_test(cand, mean, sigma2, nc, opts, &s);
+  const bool blocks_ok = !opts.block_test || block_test(D, opts, &s);
   s.passed = pixels_ok && blocks_ok && !s.mean_failed;
   return s;
 }
@@ -224,7 +328,7 @@ double ImageScore::max_mean_z() const {
 }
 
 std::string ImageScore::summary() const {
-  char buf[240];
+  char buf[240];  // each piece is short
   const double ok = channels_tested ? 100.0 * (channels_tested - channels_failed) / channels_tested : 0.0;
   if (deterministic) {
     std::snprintf(buf, sizeof buf, "%.2f%% px within round-off, largest difference %.2g", ok, max_abs_difference);
@@ -242,7 +346,13 @@ std::string ImageScore::summary() const {
     s += buf;
   }
   std::snprintf(buf, sizeof buf, ", relMSE %.3g (noise %.3g)", relmse, relmse_expected);
-  return s + buf;
+  s += buf;
+  if (noise_ratio >= 0) {
+    std::snprintf(buf, sizeof buf, ", variance %.2fx the reference's", noise_ratio);
+    s += buf;
+  }
+  if (renders > 1) s += ", " + std::to_string(renders) + " renders";
+  return s;
 }
 
 }  // namespace grader

@@ -2,17 +2,29 @@
 //
 // The reference of a case is B independent renders of the reference build
 // at exactly the case's settings (different seeds): their per-pixel mean m
-// and per-pixel variance v (the variance of ONE render at the case's
-// budget, estimated across the B renders). A correct candidate render c is
-// then another independent draw, so c - m has variance v (1 + 1/B).
+// and per-pixel variance v_r (the variance of ONE render at the case's
+// budget, estimated across the B renders).
 //
-// Two tests, both at a family-wise level alpha with a Šidák-corrected
-// per-test threshold, in the manner of Mitsuba 3's render tests:
-//  - per pixel channel: z = |c - m| / sqrt(max(v* (1 + 1/B), floor)), where
-//    v* = max(v, mean of v over the 3x3 neighbourhood) guards against
-//    variances that B renders underestimate; the image passes when at least
-//    `min_pass_fraction` of the channels pass (a few pixels may sit on an
-//    edge or catch a firefly);
+// The candidate is K independent renders of the graded build (K >= 2 for a
+// Monte Carlo case), and it is judged with ITS OWN noise, never the
+// reference's: a correct estimator that is noisier than the reference's (a
+// roulette probability of 0.5, uniform bounces, ...) has the same expected
+// image, and that is the question each test asks. From the K renders: their
+// mean c and u = s^2 / K, the variance of c estimated from the renders'
+// spread s^2. The difference c - m then has variance u + v_r / B.
+//
+// Variances estimated from a few renders are noisy and, where rare paths
+// never showed, too small. Each pixel channel's u and v_r are therefore
+// taken as at least the mean over its 3x3 neighbourhood (neighbouring
+// pixels see nearly the same paths): pooling gives u about 9 (K - 1)
+// degrees of freedom, and taking the larger of a pixel's own value and
+// the pooled one is conservative at edges, where the variance jumps.
+//
+// Three tests, in the manner of Mitsuba 3's render tests:
+//  - per pixel channel: z = (|c - m| - slack) / sqrt(max(u + v_r / B,
+//    floor)); the image passes when at least `min_pass_fraction` of the
+//    channels pass (a few pixels may sit on an edge or meet a firefly the
+//    renders' spread did not show);
 //  - per 8x8 block and channel (Monte Carlo cases only): the mean of
 //    c - m over the block, each pixel's difference winsorised at +-3 of its
 //    standard deviations so that a lone firefly cannot decide it, against
@@ -24,6 +36,16 @@
 //    over the whole image against its standard error. A bias spread thinly
 //    over the image (a 14 % darker render whose pixels are too noisy for
 //    any 8x8 block to show it) is tens of standard errors away here.
+// Noise is judged apart: `noise_ratio` is the candidate's variance at the
+// case's settings over the reference's (each pixel's share capped, so
+// that one firefly cannot decide it); the checks (checks.h) hold it to a
+// generous bound where the case asks for a method whose noise matters.
+//
+// With a single candidate render (K = 1: `grader compare` of one file, the
+// viewer's difference overlay) there is no spread to estimate u from, and
+// the reference's variance stands in for it (u = v_r): the old, stricter
+// question "is this render a draw of the reference's estimator?".
+//
 // A deterministic reference (every reference render gave the same image:
 // normal shading at one sample per pixel) is compared by value instead:
 // each channel must lie within abs_tolerance + rel_tolerance |m| of it, as
@@ -48,9 +70,9 @@ using pt::ImageBuffer;
 
 struct ScoreOptions {
   int channels = 3;                  // colour channels scored: 1 for a sample-rate image (the rate is in each)
-  double alpha = 0.01;               // family-wise, per test kind
+  double alpha = 0.01;               // the per-pixel test's family-wise level (Sidak over the channels)
   double min_pass_fraction = 0.9975; // of pixel channels
-  double variance_floor = 1e-4;      // on v (1 + 1/B)
+  double variance_floor = 1e-4;      // on the variance of c - m
   // Per-pixel test only: |c - m| less this much is what is divided by
   // sigma. A sample-rate image moves in steps of one batch, and a pixel that
   // takes one batch more than it did in every one of the B reference renders
@@ -63,12 +85,20 @@ struct ScoreOptions {
   int block_size = 8;
   double block_clamp = 3.0;          // pixel differences winsorised at +-3 sigma
   int min_blocks_to_fail = 2;        // distinct blocks (any channel) that fail the image
+  // The chance that a correct render fails the block test: each block's
+  // level is set so that min_blocks_to_fail or more distinct blocks fail
+  // with at most this probability.
+  double block_alpha = 1e-3;
   bool mean_test = true;             // off for deterministic references
-  // The image-mean test's family-wise level. Lower than alpha: its power is
-  // to spare (a 14 % bias is tens of standard errors), and at 0.01 it alone
-  // would fail one correct render in a hundred per case, a false failure
-  // for every fourth student over the Monte Carlo cases.
-  double mean_alpha = 0.001;
+  // The image-mean test's family-wise level (Sidak over the channels). The
+  // grader sets it, with block_alpha, from its false-failure budget for a
+  // whole grading run (grade.h): one correct build in a thousand may lose a
+  // point somewhere to chance, not one case in a thousand.
+  double mean_alpha = 1e-3;
+  // The noise ratio counts each pixel channel's variance up to this many
+  // times the reference's: a lone firefly of a correct estimator must not
+  // make it look noisy everywhere.
+  double noise_cap = 50.0;
   bool deterministic = false;        // compare by value (tolerances below), no z tests
   double abs_tolerance = 1e-3;       // deterministic: |c - m| <= abs + rel |m|
   double rel_tolerance = 1e-3;
@@ -76,6 +106,8 @@ struct ScoreOptions {
 
 struct ImageScore {
   bool passed = false;
+  int renders = 1;                  // candidate renders scored
+  bool own_variance = false;        // judged with the candidate's own spread (renders >= 2)
   int channels_tested = 0, channels_failed = 0;
   int blocks_tested = 0, blocks_failed = 0;  // (block, channel) pairs
   int distinct_blocks_failed = 0;
@@ -89,6 +121,9 @@ struct ImageScore {
   double mean_threshold = 0;
   double relmse = 0, relmse_expected = 0;
   double mean_candidate = 0, mean_reference = 0;
+  // The candidate's variance at the case's settings over the reference's
+  // (-1: not measured: one render, or a reference without noise).
+  double noise_ratio = -1;
   std::vector<float> pixel_z;  // per pixel, the largest |z| over channels (deterministic: |c - m| / tolerance)
   double max_mean_z() const;   // the largest |z| of the image-mean test
   // "99.98% px ok, 0/192 blocks off, mean |z| 0.8, relMSE 0.012 (noise 0.011)", or for a
@@ -96,14 +131,35 @@ struct ImageScore {
   std::string summary() const;
 };
 
+// The graded build's renders of one case: independent renders at
+// different seeds. `share` is each render's share of the case's samples:
+// 1 / K when the case's -s was split over the K renders, 1 when every
+// render took the case's -s; the variance of one render at the case's
+// settings is then share times the renders' spread.
+struct CandidateRenders {
+  std::vector<ImageBuffer> images;
+  double share = 1.0;
+};
+
 // The sizes must agree (checked by the caller); values must be finite.
+// With two or more renders the candidate is judged with its own variance;
+// with one, with the reference's.
+ImageScore score_renders(const CandidateRenders& candidate, const ImageBuffer& mean, const ImageBuffer& variance,
+                         int reference_runs, const ScoreOptions& opts);
+// One render (judged with the reference's variance).
 ImageScore score_image(const ImageBuffer& candidate, const ImageBuffer& mean, const ImageBuffer& variance,
                        int reference_runs, const ScoreOptions& opts);
+
+// The mean of several renders, pixel by pixel (the candidate's image).
+ImageBuffer mean_of(const std::vector<ImageBuffer>& images);
 
 // The two-sided standard-normal threshold z with P(|Z| > z) = p.
 double normal_two_sided_threshold(double p);
 // Šidák: the per-test level giving family-wise level alpha over n tests.
 double sidak_level(double alpha, int n);
+// The level per test at which `at_least` or more of n independent tests
+// fail with probability at most alpha (a bound: C(n, k) p^k <= alpha).
+double level_for_at_least(double alpha, int n, int at_least);
 
 // The value of channel `c` at column x of row `row` counted from the top.
 inline float value_from_top(const ImageBuffer& img, int x, int row, int c) { return img.at(x, img.height - 1 - row)[c]; }

@@ -218,7 +218,7 @@ Command make_command(Random& rng) {
   if (maybe(0.2)) add({"-t", number(rng, {"1", "2", "3"}, kBadInts)});
   if (maybe(0.2)) add({"-m", number(rng, {"0", "1", "2", "5", "1000"}, kBadInts)});
   if (maybe(0.1)) add({"-o", number(rng, {"0", "1", "7"}, kBadInts)});
-  if (maybe(0.2)) add({"--part", number(rng, {"1", "2", "3", "4", "5"}, {"0", "6", "-1", "x", ""})});
+  if (maybe(0.2)) add({"--part", number(rng, {"1", "2", "3", "4", "5", "6", "7", "8", "9"}, {"0", "10", "-1", "x", ""})});
   if (maybe(0.15)) add({"-b", number(rng, {"0", "0.05", "1e6"}, kBadReals)});
   if (maybe(0.15)) add({"-d", number(rng, {"1", "4.7", "1e-6", "1e9"}, kBadReals)});
   if (maybe(0.15)) {

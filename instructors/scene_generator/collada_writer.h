@@ -194,6 +194,13 @@ inline void write_effects(XmlOut& x, const Scene& s) {
           x.leaf("ior", num(m.ior));
           x.close();
           break;
+        case MaterialKind::Microfacet:
+          x.open("microfacet");
+          x.leaf("alpha", num(m.alpha));
+          x.leaf("eta", rgb(m.eta));
+          x.leaf("k", rgb(m.k));
+          x.close();
+          break;
         case MaterialKind::Diffuse:
           break;
       }

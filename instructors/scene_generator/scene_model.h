@@ -71,7 +71,7 @@ inline std::array<double, 16> node_matrix(const Xform& w) {
 
 using Rgb = std::array<double, 3>;
 
-enum class MaterialKind { Diffuse, Emission, Mirror, Glass };
+enum class MaterialKind { Diffuse, Emission, Mirror, Glass, Microfacet };
 
 struct Material {
   std::string name;              // ids: NAME-effect, NAME-material
@@ -82,6 +82,9 @@ struct Material {
   Rgb transmittance{1, 1, 1};    // CGL glass
   double roughness = 0;          // CGL glass
   double ior = 1.5;              // CGL glass
+  double alpha = 0.5;            // CGL microfacet: Beckmann roughness
+  Rgb eta{1, 1, 1};              // CGL microfacet: the metal's index of refraction per channel
+  Rgb k{0, 0, 0};                // CGL microfacet: its extinction coefficient per channel
 };
 
 // A triangle mesh; vertices in world space, triangles as vertex indices in

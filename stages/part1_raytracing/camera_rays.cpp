@@ -9,7 +9,7 @@ namespace pt {
 
 Ray generate_ray(const Camera& cam, double x, double y) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(1);
+  // STUB: PT_TODO(1, "every camera ray points straight down -z from the camera");
   // STUB: unused(x, y);
   // STUB: return Ray(Vec3(cam.position), Vec3(0, 0, -1), float(cam.near_clip), float(cam.far_clip));
   const double deg = kPiDouble / 180.0;

@@ -14,8 +14,9 @@ using RadianceFn = std::function<Color(const Ray& r, Rng& rng)>;
 
 // The camera ray of one sample of pixel (x, y): through the pixel centre
 // when `jitter` is false, else through a uniformly random point of the
-// pixel, with its random numbers drawn from `rng` (a thin lens, -b > 0,
-// takes two more).
+// pixel, with its random numbers drawn from `rng`. With a thin lens (from
+// part 9 on: cam.thin_lens set and cam.lens_radius > 0) the ray is
+// cam.thin_lens's, with two more numbers for the point on the lens.
 Ray camera_sample_ray(const Camera& cam, int x, int y, bool jitter, Rng& rng);
 
 // The estimate of pixel (x, y) (integer pixel coordinates, (0, 0) at the

@@ -9,7 +9,7 @@ namespace pt {
 
 bool intersect_sphere(const Sphere& s, Ray& r, Hit* hit) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(1);
+  // STUB: PT_TODO(1, "no sphere is ever hit");
   // STUB: unused(s, r, hit);
   // STUB: return false;
   // Solve a t^2 + 2 b t + c = 0 with b = d.(o-c); in double, as the

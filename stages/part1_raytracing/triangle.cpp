@@ -8,7 +8,7 @@ namespace pt {
 
 bool intersect_triangle(const Triangle& tri, Ray& r, Hit* hit) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(1);
+  // STUB: PT_TODO(1, "no triangle is ever hit");
   // STUB: unused(tri, r, hit);
   // STUB: return false;
   const Vec3 e1 = tri.p2 - tri.p1, e2 = tri.p3 - tri.p1;

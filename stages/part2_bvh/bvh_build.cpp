@@ -193,7 +193,7 @@ void BVH::build(const BVHOptions& options) {
   stats_ = BVHBuildStats{};
   if (!prims.empty()) {
     // BEGIN SOLUTION
-    // STUB: PT_TODO_AS(2, "BVH construction", "using one leaf");
+    // STUB: PT_TODO_AS(2, "BVH construction", "one leaf holds every primitive");
     // STUB: unused(options);
     // STUB: nodes_.resize(1);
     // STUB: BBox all;

@@ -87,7 +87,7 @@ bool BVH::intersect(Ray& r, Hit* hit) const {
   ++stats.closest_queries;
   if (nodes_.empty()) return false;
   // BEGIN SOLUTION
-  // STUB: PT_TODO_AS(2, "BVH::intersect", "testing every primitive");
+  // STUB: PT_TODO_AS(2, "BVH::intersect", "every ray tests every primitive");
   // STUB: return intersect_every_primitive(scene_, r, hit);
   const WideRay wr(r);
   if (!wr.finite) return false;  // as brute force: such a ray hits nothing
@@ -183,7 +183,7 @@ bool BVH::occluded(const Ray& ray) const {
   if (nodes_.empty()) return false;
   Ray r = ray;
   // BEGIN SOLUTION
-  // STUB: PT_TODO_AS(2, "BVH::occluded", "testing every primitive");
+  // STUB: PT_TODO_AS(2, "BVH::occluded", "every shadow ray tests every primitive");
   // STUB: return any_primitive_occludes(scene_, r);
   // Read from `ray`, not from its copy `r`, which is then never made: it is
   // copied 16 bytes at a time (see WideRay for why that stalls).

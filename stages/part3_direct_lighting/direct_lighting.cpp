@@ -13,16 +13,18 @@ namespace pt {
 Color zero_bounce_radiance(const ShadingContext& ctx, const Ray& r, const Hit& hit) {
   (void)r;
   // BEGIN SOLUTION
-  // STUB: PT_TODO(3);
+  // STUB: PT_TODO(3, "lights give no light of their own: they look black");
   // STUB: unused(ctx, hit);
   // STUB: return Color(0.0f);
   return emission(ctx.scene.materials[size_t(hit.material)]);
   // END SOLUTION
 }
 
+// Rays are float: start each probe ray at min_t = kRayEpsilon (its
+// default), not at the course's EPS_D = 1e-11, which is no offset in float.
 Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(3);
+  // STUB: PT_TODO(3, "no direct light with -H: black");
   // STUB: unused(ctx, r, hit, rng);
   // STUB: return Color(0.0f);
   const Frame frame = Frame::from_normal(hit.n);
@@ -44,9 +46,14 @@ Color estimate_direct_lighting_hemisphere(const ShadingContext& ctx, const Ray& 
   // END SOLUTION
 }
 
+// Two conventions of this code base (README, "Conventions that differ from
+// the course's code"): rays are float, so start shadow rays at
+// min_t = kRayEpsilon (the course's EPS_D = 1e-11 is no offset in float:
+// self-shadowing, an image about half as bright); and sample_light's pdf is
+// always positive, with zero radiance for a sample that brings no light.
 Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& r, const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(3);
+  // STUB: PT_TODO(3, "no direct light: black but for the lights");
   // STUB: unused(ctx, r, hit, rng);
   // STUB: return Color(0.0f);
   const Frame frame = Frame::from_normal(hit.n);
@@ -59,7 +66,8 @@ Color estimate_direct_lighting_importance(const ShadingContext& ctx, const Ray& 
     Color sum(0.0f);
     for (int i = 0; i < n; ++i) {
       const LightSample ls = sample_light(light, p, rng.uniform(), rng.uniform());
-      if (!(ls.pdf > 0)) continue;
+      // No light along it (the back of a one-sided light): no shadow ray.
+      if (is_black(ls.radiance)) continue;
       const Vec3 wi = frame.to_local(ls.wi);
       if (wi.z <= 0) continue;  // the light is below the surface
       const float max_t = std::isfinite(ls.distance) ? ls.distance - kRayEpsilon : kInfinity;

@@ -1,6 +1,8 @@
 // Part 3: direct lighting, by uniform hemisphere sampling (-H) and by
 // sampling the lights (importance sampling).
 #pragma once
+#include <vector>
+
 #include "common/intersector.h"
 #include "common/ray.h"
 #include "common/rng.h"
@@ -8,18 +10,26 @@
 
 namespace pt {
 
+// What shading reads of the scene: its materials and lights. The render
+// gives copies of the scene's, with each material's BSDF and each
+// environment light's sampler set for the parts it renders (see
+// common/bsdf.h); a Scene converts to its own.
+struct ShadingScene {
+  const std::vector<Material>& materials;
+  const std::vector<Light>& lights;
+
+  ShadingScene(const Scene& s) : materials(s.materials), lights(s.lights) {}  // implicit: a Scene shades as itself
+  ShadingScene(const std::vector<Material>& m, const std::vector<Light>& l) : materials(m), lights(l) {}
+};
+
 // What the lighting estimators need to know about the render.
 struct ShadingContext {
-  const Scene& scene;
+  ShadingScene scene;
   const Intersector& geometry;
   int light_samples = 1;        // -l: samples per area (non-delta) light
   bool hemisphere = false;      // -H: estimate direct light by hemisphere sampling
   bool course_area_pdf = false; // reproduce the course's area-light pdf (see docs/differences.md)
 };
-
-// Offset of shadow and bounce rays from the surface (min_t), and how far
-// short of a sampled light a shadow ray stops (max_t = distance - eps).
-constexpr float kRayEpsilon = 1e-4f;
 
 // Light emitted by the surface `hit` toward the ray's origin (emission is
 // seen from both sides).

@@ -1,5 +1,7 @@
 #include "stages/part4_global_illumination/global_illumination.h"
 
+#include <cmath>
+
 #include "common/bsdf.h"
 #include "common/frame.h"
 #include "common/lights.h"
@@ -11,7 +13,7 @@ namespace pt {
 Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions& opts, const Ray& r,
                                    const Hit& hit, Rng& rng) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(4);
+  // STUB: PT_TODO(4, "direct light only (one bounce)");
   // STUB: unused(opts);
   // STUB: return one_bounce_radiance(ctx, r, hit, rng);
   // One path, bounce by bounce, in a loop rather than by recursion: -m sets
@@ -23,7 +25,12 @@ Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions&
   Hit at = hit;
   for (;;) {
     const bool first_bounce = ray.depth == opts.max_depth;
-    if ((opts.accumulate || ray.depth == 1) && !(opts.skip_direct && first_bounce))
+    const Material& m = ctx.scene.materials[size_t(at.material)];
+    // A delta BSDF (mirror, glass; part 6) reflects light from one
+    // direction, which light sampling never finds: its light is the
+    // emission the bounce reaches, added below.
+    const bool delta = bsdf_is_delta(m);
+    if ((opts.accumulate || ray.depth == 1) && !(opts.skip_direct && first_bounce) && !delta)
       L += weight * one_bounce_radiance(ctx, ray, at, rng);
     if (ray.depth <= 1) break;
 
@@ -35,15 +42,25 @@ Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions&
     }
     const Frame frame = Frame::from_normal(at.n);
     const Vec3 wo = frame.to_local(-ray.d);
-    const Material& m = ctx.scene.materials[size_t(at.material)];
     Vec3 wi;
     float pdf = 0;
     const Color f = bsdf_sample_f(m, wo, rng.uniform(), rng.uniform(), &wi, &pdf);
     if (!(pdf > 0) || (f.x == 0 && f.y == 0 && f.z == 0)) break;
     Ray bounce(ray.at(at.t), frame.to_world(wi), kRayEpsilon, kInfinity, ray.depth - 1);
+    // After a delta bounce, what the bounce reaches stands for the direct
+    // light at `at`, counted by the same rule (-o 0: the light reaching the
+    // last vertex, at depth 1).
+    const bool count_emission =
+        delta && (opts.accumulate || bounce.depth == 1) && !(opts.skip_direct && first_bounce);
     Hit next;
-    if (!ctx.geometry.intersect(bounce, &next)) break;  // the sky was counted by light sampling
-    weight *= f * (wi.z / (pdf * survive));
+    if (!ctx.geometry.intersect(bounce, &next)) {  // the sky was counted by light sampling, unless at a delta
+      if (count_emission)
+        L += weight * f * (std::fabs(wi.z) / (pdf * survive)) * escaped_radiance(ctx.scene.lights, bounce.d);
+      break;
+    }
+    // |cos theta|: a refracted wi lies below the surface.
+    weight *= f * (std::fabs(wi.z) / (pdf * survive));
+    if (count_emission) L += weight * zero_bounce_radiance(ctx, bounce, next);
     ray = bounce;
     at = next;
   }

@@ -20,7 +20,10 @@ struct PathOptions {
 // of depth r.depth: the direct light at the hit (if bounces are
 // accumulated, or if this is the last bounce), plus, while r.depth > 1, one
 // sampled bounce (sample_f), continued with depth - 1 and weighted by
-// f cos / pdf. The first bounce from a camera ray (depth == max_depth) is
+// f |cos| / pdf. At a delta BSDF (mirror, glass; part 6) there is no
+// direct light; the emission (or sky) its bounce reaches is added instead,
+// counted by the same rule (with -o 0, when the bounce lands at depth 1).
+// The first bounce from a camera ray (depth == max_depth) is
 // always traced; later ones survive Russian roulette with
 // kContinueProbability and are divided by it. The course writes this
 // recursively; a loop does the same and survives any -m (the reference's

@@ -8,7 +8,7 @@ namespace pt {
 
 bool pixel_converged(double s1, double s2, int n, double tolerance) {
   // BEGIN SOLUTION
-  // STUB: PT_TODO(5);
+  // STUB: PT_TODO(5, "no pixel ever converges");
   // STUB: unused(s1, s2, n, tolerance);
   // STUB: return false;
   if (n < 2) return false;
@@ -22,7 +22,7 @@ Color raytrace_pixel_adaptive(const Camera& cam, int x, int y, int max_samples, 
                               const RadianceFn& radiance, const AdaptiveOptions& opts, int* samples_taken) {
   const uint64_t pixel = uint64_t(y) * uint64_t(cam.width) + uint64_t(x);
   // BEGIN SOLUTION
-  // STUB: PT_TODO(5);
+  // STUB: PT_TODO(5, "every pixel takes all -s samples (raytrace_pixel)");
   // STUB: unused(pixel, opts);
   // STUB: *samples_taken = max_samples;
   // STUB: return raytrace_pixel(cam, x, y, max_samples, seed, radiance);

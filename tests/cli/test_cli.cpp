@@ -202,7 +202,8 @@ TEST_CASE("bad flag values fail with one clear line and write nothing", "[cli]")
   expect_clean_failure(dir, {"-b", "-1", scene}, "-b");
   expect_clean_failure(dir, {"-s", "many", scene}, "-s");
   expect_clean_failure(dir, {"-r", "64", "48", "-p", "60", "0", "8", "8", scene}, "-p");
-  expect_clean_failure(dir, {"--part", "9", scene}, "--part");
+  expect_clean_failure(dir, {"--part", "10", scene}, "--part");
+  expect_clean_failure(dir, {"--part", "0", scene}, "--part");
   expect_clean_failure(dir, {"--bogus", scene}, "bogus");
   expect_clean_failure(dir, {}, "scene");
   expect_clean_failure(dir, {"-e", "sky.exr", scene}, "sky.exr");
@@ -211,7 +212,7 @@ TEST_CASE("bad flag values fail with one clear line and write nothing", "[cli]")
 TEST_CASE("every part renders from the command line", "[cli]") {
   test::TempDir dir;
   test::write_text(dir.file("tiny.dae"), kTinyScene);
-  for (const char* part : {"1", "2", "3", "4", "5"}) {
+  for (const char* part : {"1", "2", "3", "4", "5", "6", "7", "8", "9"}) {
     const auto r = run_pathtracer({"--part", part, "-s", "4", "-r", "16", "12", "-f", "o.png", "tiny.dae"}, dir.path());
     INFO("part " << part << ": " << r.err);
     CHECK(r.exit_code == 0);

@@ -18,6 +18,7 @@
 #include "stages/part1_raytracing/brute_force.h"
 #include "stages/part3_direct_lighting/direct_lighting.h"
 #include "common/environment.h"
+#include "common/rng.h"
 #include "common/lights.h"
 #include "common/image_io.h"
 #include "tests/support.h"
@@ -49,13 +50,36 @@ TEST_CASE("environment map: texels are read and looked up by latitude and longit
   REQUIRE(env.height == 4);
   CHECK(env.lookup({0, 1, 0}).y == 0.0f);   // straight up: the top row
   CHECK(env.lookup({0, -1, 0}).y == 3.0f);  // straight down: the bottom row
-  const Color ahead = env.lookup({0, 0, -1});  // -Z: the centre column, the middle
+  // The course's layout: phi = atan2(-z, x) + pi from the left edge.
+  const Color ahead = env.lookup({1, 0, 0});  // +X: the centre column, the middle
   CHECK(ahead.x == 4.0f);
   CHECK(ahead.y == 2.0f);
-  CHECK(env.lookup({1, 0, 0}).x == 6.0f);   // +X: three quarters across
-  CHECK(env.lookup({-1, 0, 0}).x == 2.0f);  // -X: one quarter across
-  CHECK(env.lookup({0, 0, 1}).x == 7.0f);   // +Z: the right edge (phi = pi)
+  CHECK(env.lookup({0, 0, 1}).x == 2.0f);       // +Z: one quarter across
+  CHECK(env.lookup({0, 0, -1}).x == 6.0f);      // -Z: three quarters across
+  CHECK(env.lookup({-1, 0, 0.01f}).x == 0.0f);  // -X: the left edge ...
+  CHECK(env.lookup({-1, 0, -0.01f}).x == 7.0f); // ... and the right edge
   CHECK(env.lookup({0, 0, 1}).z == 0.5f);
+  int x = -1, y = -1;
+  env.texel_of({0, 0, -1}, &x, &y);
+  CHECK(x == 6);
+  CHECK(y == 2);
+}
+
+TEST_CASE("environment map: angles and directions convert both ways by the course's convention", "[environment]") {
+  Rng rng(17);
+  for (int i = 0; i < 1000; ++i) {
+    const float theta = float(M_PI) * (0.001f + 0.998f * rng.uniform()), phi = 2 * float(M_PI) * rng.uniform();
+    const Vec3 d = angles_to_direction(theta, phi);
+    REQUIRE(std::fabs(norm(d) - 1.0f) < 1e-5f);
+    // The course's theta_phi_to_dir: (cos(phi - pi) sin, cos, -sin(phi - pi) sin).
+    REQUIRE(d.x == Approx(std::cos(phi - M_PI) * std::sin(theta)).margin(1e-5));
+    REQUIRE(d.y == Approx(std::cos(theta)).margin(1e-5));
+    REQUIRE(d.z == Approx(-std::sin(phi - M_PI) * std::sin(theta)).margin(1e-5));
+    float t = 0, p = 0;
+    direction_to_angles(d, &t, &p);
+    REQUIRE(t == Approx(theta).margin(1e-4));
+    REQUIRE(std::fabs(std::remainder(p - phi, 2 * M_PI)) < 1e-4);
+  }
 }
 
 TEST_CASE("environment map: missing, malformed and negative files fail naming the file", "[environment]") {

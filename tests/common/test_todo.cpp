@@ -1,6 +1,9 @@
 // The starter kit's TODO lines (common/todo.h): the grader reads them, so
 // their text is fixed: "TODO: implement Part N: <function> (<file>)".
 #include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <vector>
 #include <cstdio>
 #include <string>
 #include <unistd.h>
@@ -44,6 +47,8 @@ void stub_of_part_three() { PT_TODO(3); }
 
 void stub_with_a_note() { PT_TODO_AS(2, "BVH::intersect", "testing every primitive"); }
 
+void stub_with_its_own_note() { PT_TODO(4, "direct light only"); }
+
 }  // namespace
 
 TEST_CASE("a TODO message names the part, the function and the file from the repository's root", "[todo]") {
@@ -69,4 +74,27 @@ TEST_CASE("PT_TODO prints its line once, naming the enclosing function and this 
   CHECK(stderr_of([] { stub_of_part_three(); }).empty());
   CHECK(stderr_of([] { stub_with_a_note(); }) ==
         "TODO: implement Part 2: BVH::intersect (tests/common/test_todo.cpp); testing every primitive\n");
+}
+
+// Never called: a function of the program all the same, as a stub of the
+// kit is (outside an unnamed namespace, so that it is compiled).
+void never_called_stub_of_part_five();
+void never_called_stub_of_part_five() { PT_TODO(5, "no pixel ever converges"); }
+
+TEST_CASE("PT_TODO(part, note) says what the stub does meanwhile", "[todo]") {
+  CHECK(stderr_of([] { stub_with_its_own_note(); }) ==
+        "TODO: implement Part 4: stub_with_its_own_note (tests/common/test_todo.cpp); direct light only\n");
+}
+
+TEST_CASE("every PT_TODO line of the program is listed, whether it ran or not", "[todo]") {
+  const std::vector<TodoSite> sites = todo_sites();
+  const auto has = [&](int part, const std::string& name, const std::string& note) {
+    return std::any_of(sites.begin(), sites.end(), [&](const TodoSite& s) {
+      return s.part == part && name == s.name && note == s.note && std::string(s.file).find("test_todo.cpp") != std::string::npos;
+    });
+  };
+  CHECK(has(3, "stub_of_part_three", ""));
+  CHECK(has(2, "BVH::intersect", "testing every primitive"));
+  CHECK(has(5, "never_called_stub_of_part_five", "no pixel ever converges"));  // never reached
+  CHECK(has(4, "stub_with_its_own_note", "direct light only"));
 }

@@ -109,67 +109,106 @@ TEST_CASE("Rate image check: its summary joins the case's metric, a failure says
   CHECK(check_rate_image(failed_score(0.79, 0.8, 0.02, 0.02), 2.0).credit == Approx(1.0));
 }
 
-TEST_CASE("Cost check: tests per query of each kind and shadow rays per query against the reference's bounds",
-          "[grader]") {
-  const CostBounds bounds;  // 8x + 4 tests, 1.5x shadow rays
-  const QueryCosts reference{3.0, 2.0, 2.0};
+TEST_CASE("Cost check: part 2 against a plain binary BVH, parts 3-5 only against a missing BVH", "[grader]") {
+  const CostBounds bounds;  // part 2: 3x the plain BVH + 4; parts 3-5: 20x + 4; shadow rays 3x the reference's
+  CostBaseline base;
+  base.tests = QueryCosts{3.0, 2.0, -1};
+  base.reference_shadow_per_query = 2.0;
   QueryCosts measured;
 
-  SECTION("as the reference: passes, with the measured figures") {
+  SECTION("as the plain BVH: passes, with the measured figures") {
     const Json s = stats(1000, 2000, 3000 + 4000, 4000);
-    const Check k = check_costs(&s, reference, bounds, 1.5, &measured);
+    const Check k = check_costs(&s, 2, base, bounds, 1.5, &measured);
     CHECK(k.problems.empty());
     CHECK(k.credit == 1.5);
     CHECK(measured.closest_tests == Approx(3.0));
     CHECK(measured.shadow_tests == Approx(2.0));
     CHECK(measured.shadow_per_query == Approx(2.0));
-    CHECK(k.metric == "; tests per query 3.00 (ref 3.00), per shadow ray 2.00 (ref 2.00); 2.00 shadow rays per query "
-                      "(ref 2.00)");
+    CHECK(k.metric == "; tests per query 3.00 (plain BVH 3.00), per shadow ray 2.00 (plain BVH 2.00); 2.00 shadow "
+                      "rays per query (ref 2.00)");
   }
   SECTION("no statistics, or no closest-hit query counted: no credit, nothing measured") {
-    const Check k = check_costs(nullptr, reference, bounds, 1.5, &measured);
+    const Check k = check_costs(nullptr, 3, base, bounds, 1.5, &measured);
     REQUIRE(k.problems.size() == 1);
     CHECK(k.problems[0] == "no ray counts (--stats-json stats.json)");
     CHECK(k.credit == 0.0);
     CHECK(measured.closest_tests == -1);
     const Json none = stats(0, 10, 100, 50);
-    CHECK(check_costs(&none, reference, bounds, 1.5, &measured).problems.size() == 1);
+    CHECK(check_costs(&none, 3, base, bounds, 1.5, &measured).problems.size() == 1);
   }
-  SECTION("exactly at the bound passes, just beyond it fails") {
-    const Json at = stats(1000, 2000, 28000 + 4000, 4000);  // 28 = 8 x 3 + 4 per camera ray
-    CHECK(check_costs(&at, reference, bounds, 1.5, &measured).problems.empty());
-    const Json beyond = stats(1000, 2000, 28100 + 4000, 4000);
-    const Check k = check_costs(&beyond, reference, bounds, 1.5, &measured);
+  SECTION("part 2: at 3x the plain BVH's + 4 passes, just beyond fails and says what to look at") {
+    const Json at = stats(1000, 0, 13000, 0);  // 13 = 3 x 3 + 4 per camera ray
+    CHECK(check_costs(&at, 2, base, bounds, 1.5, &measured).problems.empty());
+    const Json beyond = stats(1000, 0, 13100, 0);
+    const Check k = check_costs(&beyond, 2, base, bounds, 1.5, &measured);
     REQUIRE(k.problems.size() == 1);
-    CHECK_THAT(k.problems[0], Catch::StartsWith("28.1 intersection tests per camera or bounce ray, more than 8x the "
-                                                "reference's 3.00: the BVH does not cull"));
+    CHECK_THAT(k.problems[0], Catch::StartsWith("13.1 intersection tests per camera or bounce ray, more than 3x what a "
+                                                "plain binary BVH needs here (3.00): the BVH does not cull enough"));
     CHECK(k.credit == 0.0);
   }
-  SECTION("shadow rays that test too much, or too many shadow rays") {
-    const Json costly_shadow = stats(1000, 2000, 3000 + 42000, 42000);  // 21 per shadow ray > 20
-    Check k = check_costs(&costly_shadow, reference, bounds, 1.5, &measured);
+  SECTION("parts 3-5: the same costs pass; only a missing BVH (20x the plain BVH's + 4) fails") {
+    const Json costly = stats(1000, 2000, 13100 + 4000, 4000);
+    CHECK(check_costs(&costly, 3, base, bounds, 1.5, &measured).problems.empty());
+    const Json at = stats(1000, 2000, 64000 + 44000, 44000);  // 64 = 20 x 3 + 4; 44 = 20 x 2 + 4
+    CHECK(check_costs(&at, 4, base, bounds, 1.5, &measured).problems.empty());
+    const Json no_tree = stats(1000, 2000, 64100 + 90000, 90000);
+    const Check k = check_costs(&no_tree, 5, base, bounds, 1.5, &measured);
+    REQUIRE(k.problems.size() == 2);
+    CHECK_THAT(k.problems[0], Catch::Contains("the closest-hit query is not using the BVH"));
+    CHECK_THAT(k.problems[1], Catch::StartsWith("45.0 intersection tests per shadow ray, more than 20x what a plain "
+                                                "binary BVH needs here (2.00): the occlusion query does not use the BVH"));
+  }
+  SECTION("shadow rays: 2x the reference's (cos theta tested after the shadow ray) passes, 3.1x fails") {
+    const Json twice = stats(1000, 4000, 3000 + 8000, 8000);
+    CHECK(check_costs(&twice, 3, base, bounds, 1.5, &measured).problems.empty());
+    const Json many = stats(1000, 6200, 3000 + 12400, 12400);  // 6.2 shadow rays per query > 3 x 2
+    const Check k = check_costs(&many, 3, base, bounds, 1.5, &measured);
     REQUIRE(k.problems.size() == 1);
-    CHECK_THAT(k.problems[0], Catch::Contains("per shadow ray") && Catch::Contains("occlusion query does not cull"));
-    const Json many = stats(1000, 3100, 3000 + 6200, 6200);  // 3.1 shadow rays per query > 3
-    k = check_costs(&many, reference, bounds, 1.5, &measured);
-    REQUIRE(k.problems.size() == 1);
-    CHECK_THAT(k.problems[0], Catch::StartsWith("3.10 shadow rays per closest-hit query, the reference needs 2.00"));
+    CHECK_THAT(k.problems[0], Catch::StartsWith("6.20 shadow rays per closest-hit query, 3.1x the reference's 2.00: a "
+                                                "point or directional light needs one sample, not -l"));
     CHECK(k.credit == 0.0);
   }
   SECTION("no primitive test counted at all") {
     const Json uncounted = stats(1000, 2000, 0, 0);
-    const Check k = check_costs(&uncounted, reference, bounds, 1.5, &measured);
+    const Check k = check_costs(&uncounted, 2, base, bounds, 1.5, &measured);
     REQUIRE(k.problems.size() == 1);
     CHECK_THAT(k.problems[0], Catch::StartsWith("no intersection tests counted"));
   }
-  SECTION("a reference figure of -1 is not checked, and no shadow query leaves the shadow figure unmeasured") {
+  SECTION("without a plain BVH's figures for the case, the reference's stand in, and the message says so") {
+    base.plain = false;
+    const Json beyond = stats(1000, 0, 13100, 0);
+    const Check k = check_costs(&beyond, 2, base, bounds, 1.5, &measured);
+    REQUIRE(k.problems.size() == 1);
+    CHECK_THAT(k.problems[0], Catch::StartsWith("13.1 intersection tests per camera or bounce ray, more than 3x the "
+                                                "reference's (3.00)"));
+    CHECK(k.metric == "; tests per query 13.10 (ref 3.00)");
+  }
+  SECTION("a baseline figure of -1 is not checked, and no shadow query leaves the shadow figure unmeasured") {
     const Json no_shadow = stats(1000, 0, 90000, 0);
-    const Check k = check_costs(&no_shadow, QueryCosts{}, bounds, 1.5, &measured);
+    const Check k = check_costs(&no_shadow, 2, CostBaseline{}, bounds, 1.5, &measured);
     CHECK(k.problems.empty());
     CHECK(measured.closest_tests == Approx(90.0));
     CHECK(measured.shadow_tests == -1);
-    CHECK(k.metric == "; tests per query 90.00 (ref -1.00)");
+    CHECK(k.metric == "; tests per query 90.00 (plain BVH -1.00)");
   }
+}
+
+TEST_CASE("Noise check: a right image far noisier than the case's method keeps half its points, and says why",
+          "[grader]") {
+  ImageScore s;
+  s.passed = true;
+  s.noise_ratio = 3.9;
+  Check k = check_noise(s, 4.0, 0.5, "light sampling (-l 4)", 2.0);
+  CHECK(k.problems.empty());
+  CHECK(k.credit == 2.0);
+  s.noise_ratio = 140.0;  // hemisphere sampling where light sampling is asked, on the Cornell box
+  k = check_noise(s, 4.0, 0.5, "light sampling (-l 4)", 2.0);
+  REQUIRE(k.problems.size() == 1);
+  CHECK(k.problems[0] == "the image is right but too noisy: its variance is 140.0x that of light sampling (-l 4) at the "
+                         "same settings (at most 4x allowed)");
+  CHECK(k.credit == 1.0);
+  s.noise_ratio = -1;  // one render, or a reference without noise: nothing to judge
+  CHECK(check_noise(s, 4.0, 0.5, "x", 2.0).problems.empty());
 }
 
 TEST_CASE("Speed-up check: the intersection tests the BVH saves decide, the time speed-up is reported", "[grader]") {

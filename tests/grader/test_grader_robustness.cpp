@@ -74,8 +74,8 @@ const Mode kModes[] = {
     {"todo_part2", true, "matches the reference", 20},
     {"negative_roundoff", true, "matches the reference", 20},
     {"negative", false, "1 pixel has negative radiance below -1e-4 (the first at x=5, y=6 from the top)", 20},
-    {"costly", false, "100.0 intersection tests per camera or bounce ray, more than 8x the reference's", 20, 2},
-    {"costly_shadow", false, "100.0 intersection tests per shadow ray, more than 8x the reference's", 20, 2},
+    {"costly", false, "100.0 intersection tests per camera or bounce ray, more than 3x the reference's", 20, 2},
+    {"costly_shadow", false, "100.0 intersection tests per shadow ray, more than 3x the reference's", 20, 2},
     {"uncounted", false, "no intersection tests counted", 20, 2},
 };
 

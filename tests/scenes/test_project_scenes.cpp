@@ -96,6 +96,16 @@ std::vector<Expected> expected_scenes() {
   add({"depth_order.dae", 6, 2, {{LightType::Point, 1}}, {{MaterialType::Diffuse, 3}}, false, {}, "", {0, 0, 1}});
   add({"CBlights.dae", 18, 2, {{LightType::Area, 2}, {LightType::Point, 2}},
        {{MaterialType::Diffuse, 6}, {MaterialType::Emission, 2}}, false, {}, "", {0, 0, 1}});
+  // Parts 6-9 (the course's 3-2): metal spheres, a row of spheres for depth
+  // of field, the gold dragon at four roughnesses, and the copper bunny that
+  // only an environment map lights.
+  add({"CBspheres_microfacet.dae", 14, 2, area, with(box, MaterialType::Microfacet, 2), true, {}, "", {0, 0, 1}});
+  add({"CBspheres_dof.dae", 14, 5, area, with(box, MaterialType::Diffuse, 5), true, {}, "", {0, 0, 1}});
+  for (const char* a : {"0.005", "0.05", "0.25", "0.5"})
+    add({std::string("CBdragon_microfacet_au_") + a + ".dae", 14 + 50000, 0, area,
+         with(box, MaterialType::Microfacet, 1), true, {{"gold-material", 50000, true, "xyz"}}, "", {0, 0, 1}, 16, 12});
+  add({"bunny_microfacet_envmap.dae", 2 + 28576, 0, {}, {{MaterialType::Diffuse, 1}, {MaterialType::Microfacet, 1}},
+       false, {{"copper-material", 28576, true, "xyz"}}, "pedestal-material", pt::normalize(pt::Vec3d(0, 0.4, 1))});
   return e;
 }
 
@@ -367,6 +377,13 @@ PROJECT_SCENE_TESTS("armadillo.dae")
 PROJECT_SCENE_TESTS("depth_order.dae")
 PROJECT_SCENE_TESTS("CBlights.dae")
 PROJECT_SCENE_TESTS("bunny_ambient.dae")
+PROJECT_SCENE_TESTS("CBspheres_microfacet.dae")
+PROJECT_SCENE_TESTS("CBspheres_dof.dae")
+PROJECT_SCENE_TESTS("CBdragon_microfacet_au_0.005.dae")
+PROJECT_SCENE_TESTS("CBdragon_microfacet_au_0.05.dae")
+PROJECT_SCENE_TESTS("CBdragon_microfacet_au_0.25.dae")
+PROJECT_SCENE_TESTS("CBdragon_microfacet_au_0.5.dae")
+PROJECT_SCENE_TESTS("bunny_microfacet_envmap.dae")
 
 // The loader fuzzer's finding: sphere_ambient.dae with the sphere's radius
 // set to 2^64. r^2 overflows float, so a hit normal computed in float came

@@ -73,7 +73,7 @@ struct LightSampleTest {
   float u1 = 0, u2 = 0;        // the uniform numbers passed to sample_light
   LightSample sample;          // what sample_light returned
   float cos_theta = 0;         // dot(normal, wi)
-  bool shadow_tested = false;  // a shadow ray was traced (geometry given, pdf > 0, cos_theta > 0)
+  bool shadow_tested = false;  // a shadow ray was traced (geometry given, light along it, cos_theta > 0)
   Ray shadow_ray;              // from the point, min_t = kRayEpsilon, max_t = distance - kRayEpsilon
   bool blocked = false;
   Json json() const;
@@ -105,10 +105,9 @@ LightSamplesResult sample_light_many(const Scene& scene, int light_index, const 
 // ------------------------------------------------------------------
 // Path inspector
 
-// One light sample taken by the direct-light estimate at a step: found by
-// evaluating sample_light again on the numbers the estimate drew, matched
-// to the shadow ray that followed them (or, for a sample without one, the
-// contract's next light).
+// One light sample taken by the direct-light estimate at a step: a call of
+// sample_light the build made (common/path_recorder.h reports each), with
+// the shadow ray that followed its direction, if one did.
 struct LightSampleStep {
   int light = -1;              // index in scene.lights
   float u1 = 0, u2 = 0;
@@ -118,7 +117,10 @@ struct LightSampleStep {
   bool shadow_traced = false;
   Ray shadow_ray;
   bool blocked = false;
-  std::string verdict;         // "lit", "blocked", "below the surface", "zero pdf", "not traced"
+  // "lit", "blocked", or without a shadow ray: "below the surface", "zero
+  // pdf", "at the surface (shorter than the ray epsilon)", or "not traced"
+  // (it could have lit the point)
+  std::string verdict;
   Color contribution{0.0f};    // f L cos / pdf when lit (before the estimator's averaging)
   Json json() const;
 };

@@ -133,7 +133,7 @@ LightSamplesResult sample_light_many(const Scene& scene, int light_index, const 
         t.sample = sample_light(light, point, t.u1, t.u2);
         t.cos_theta = dot(res.normal, t.sample.wi);
         const float max_t = std::isfinite(t.sample.distance) ? t.sample.distance - kRayEpsilon : kInfinity;
-        if (geometry && t.sample.pdf > 0 && t.cos_theta > 0 && max_t > kRayEpsilon) {
+        if (geometry && !is_black(t.sample.radiance) && t.cos_theta > 0 && max_t > kRayEpsilon) {
           t.shadow_tested = true;
           t.shadow_ray = Ray(point, t.sample.wi, kRayEpsilon, max_t);
           t.blocked = geometry->occluded(t.shadow_ray);

@@ -40,28 +40,51 @@ async function api(path, body) {
 }
 viewer.api = api;
 
+// The job's status once it has more than `after` frames or has ended (the
+// server waits up to 10 s before it answers anyway). When the server has
+// too many such requests waiting it answers at once with "busy": then
+// this one waits a second before the next.
+async function waitStatus(job, after) {
+  const st = await api(`/api/status?job=${job}&after=${after}`);
+  if (st.busy && st.state === 'running' && !(st.frames > after)) await new Promise((r) => setTimeout(r, 1000));
+  return st;
+}
+viewer.waitStatus = waitStatus;
+
 function banner(text, kind) {
   const b = $('banner');
+  const same = b.textContent === (text || '') && b.className === (kind || '') && b.hidden === !text;
   b.hidden = !text;
   b.textContent = text || '';
   b.className = kind || '';
-  if (text) viewer.events.push({type: 'banner', kind, text});
+  if (text && !same) viewer.events.push({type: 'banner', kind, text});
 }
 viewer.banner = banner;
 
-// "Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp)" lines,
-// as one line per part.
+// A job that has made no progress for a while (the worker's report): how
+// long, and the function of the build's it is in. `ago`: seconds since
+// the report arrived.
+function stallText(stalled, what, ago) {
+  const where = stalled.function ? `${stalled.function}${stalled.where ? ` (${stalled.where})` : ''}` : 'the build\'s code';
+  return `${what} for ${Math.floor(stalled.seconds + ago)} s: an infinite loop in ${where}?`;
+}
+viewer.stallText = stallText;
+
+// The TODO lines ("Part 1: raytrace_pixel (stages/part1_raytracing/pixel_sampling.cpp);
+// one sample through the pixel centre, whatever -s"), one line per function
+// still a stub: its part, name and file, and what the render does meanwhile.
 function todoText(todo) {
-  const parts = new Map();
+  const lines = [];
   for (const line of todo) {
-    // "Part 2: BVH construction (stages/part2_bvh/bvh_build.cpp); using one leaf"
-    const m = /^Part (\d+): (.*?) \(([^()]*)\)(.*)$/.exec(line);
-    const part = m ? m[1] : '?';
-    if (!parts.has(part)) parts.set(part, []);
-    parts.get(part).push(m ? `${m[2]}, ${m[3]}${m[4]}` : line);
+    const m = /^Part (\d+): (.*?) \(([^()]*)\)(?:; (.*))?$/.exec(line);
+    if (!m) {
+      lines.push({part: '?', text: `${line}: not written yet`});
+      continue;
+    }
+    lines.push({part: m[1], text: `Part ${m[1]}, ${m[2]} (${m[3]}): not written yet${m[4] ? `; meanwhile ${m[4]}` : ''}`});
   }
-  return [...parts].sort((a, b) => a[0].localeCompare(b[0]))
-    .map(([p, fns]) => `Part ${p} not implemented (TODO: ${fns.join('; ')})`).join('\n');
+  lines.sort((a, b) => a.part.localeCompare(b.part));
+  return lines.map((l) => l.text).join('\n');
 }
 
 // ------------------------------------------------------------- settings
@@ -189,12 +212,21 @@ function drawFrame(target, frame, cell) {
 async function startRender() {
   const req = request();
   banner('');
+  // The running render's page work stops here (its last answers are not
+  // drawn over the new render's, nor compared with a case).
+  const previous = viewer.job;
+  viewer.job = null;
   let st;
   try {
     st = await api('/api/render', req);
   } catch (e) {
     banner(e.message, 'error');
     viewer.events.push({type: 'refused', status: e.status, message: e.message});
+    // Refused: the render before goes on being shown.
+    if (previous && viewer.job === null) {
+      viewer.job = previous;
+      if (viewer.status && viewer.status.job === previous && viewer.status.state === 'running') poll(previous);
+    }
     return null;
   }
   viewer.job = st.job;
@@ -214,20 +246,22 @@ async function poll(job) {
   while (viewer.job === job) {
     let st;
     try {
-      st = await api(`/api/status?job=${job}&after=${after}`);
+      st = await waitStatus(job, after);
     } catch (e) {
       if (viewer.job === job) banner(`lost the server: ${e.message}`, 'error');
       return;
     }
     if (viewer.job !== job) return;
     viewer.status = st;
+    viewer.statusAt = performance.now();
+    if (st.stalled) viewer.events.push({type: 'stall', job, stalled: st.stalled});
     if (st.frames > after && st.frame) {
       after = st.frames;
       try {
         const f = await fetchImage(job, 'render');
         if (viewer.job !== job) return;
         drawFrame(ctx, f, viewer.renderCell);
-        if (viewer.overlay === 'rate' || viewer.overlay === 'tests') await drawOverlay();
+        if (['rate', 'tests', 'diff'].includes(viewer.overlay)) await drawOverlay(job);
         viewer.events.push({type: 'frame', job, pass: f.pass, samples: st.frame.samples,
                             elapsed: st.frame.elapsed, seconds: st.frame.seconds});
       } catch (e) { /* a newer job replaced it */ }
@@ -236,7 +270,8 @@ async function poll(job) {
     showJobMessages(st);
     if (st.state !== 'running') {
       $('btn-stop').textContent = 'Restart';
-      if (viewer.overlay === 'diff') await drawOverlay();
+      // A render stopped between passes: say so (its last pass was compared).
+      if (viewer.overlay === 'diff' && st.state !== 'done') await drawOverlay(job);
       viewer.events.push({type: 'end', job, state: st.state, message: st.message, samples: st.frame && st.frame.samples,
                           passes: st.passes});
       document.body.dataset.render = st.state;
@@ -248,31 +283,46 @@ async function poll(job) {
 
 function showJobMessages(st) {
   const lines = [];
+  if (st.state === 'running' && st.stalled) {
+    lines.push(stallText(st.stalled, 'no pixel finished', (performance.now() - viewer.statusAt) / 1000));
+  }
   if (st.state === 'crashed' || st.state === 'failed') lines.push(st.message);
   if (st.todo.length) lines.push(todoText(st.todo));
   if (lines.length) banner(lines.join('\n'), st.state === 'crashed' || st.state === 'failed' ? 'error' : 'todo');
+  else if (viewer.stallShown) banner('');  // moving again
+  viewer.stallShown = st.state === 'running' && !!st.stalled;
 }
 
 function fmt(x, d = 2) { return Number(x).toFixed(d); }
 
+// The render's figures and the time since it started (counting on between
+// two answers of the server while it runs).
 function hud(st) {
   const f = st.frame;
-  let text = `${st.state}`;
+  const wall = st.wall + (st.state === 'running' && viewer.statusAt ? (performance.now() - viewer.statusAt) / 1000 : 0);
+  let text = `${st.state} · ${fmt(wall, 1)} s`;
   if (f) {
     const rays = f.rays;
     text = `samples ${f.samples}/${st.target} (pass ${f.pass + 1}) · ${rays.toLocaleString()} rays · ` +
            `${fmt(f.seconds > 0 ? rays / f.seconds / 1e6 : 0)} Mrays/s · ` +
-           `${fmt(rays ? f.tests / rays : 0)} tests/ray · ${fmt(st.wall, 1)} s · ${st.state}`;
+           `${fmt(rays ? f.tests / rays : 0)} tests/ray · ${fmt(wall, 1)} s · ${st.state}`;
   }
   $('hud').textContent = text;
 }
+setInterval(() => {
+  const st = viewer.status;
+  if (!st || st.state !== 'running' || st.job !== viewer.job) return;
+  hud(st);
+  if (st.stalled) showJobMessages(st);
+}, 1000);
 
-async function drawOverlay() {
+// Draws the overlay over render `renderJob` (default: the current one).
+async function drawOverlay(renderJob) {
   octx.clearRect(0, 0, overlayCanvas.width, overlayCanvas.height);
   overlayCanvas.style.opacity = $('overlay-opacity').value / 100;
   $('overlay-note').textContent = '';
   if (!viewer.overlay) return;
-  if (viewer.overlay === 'diff') return drawDiff();
+  if (viewer.overlay === 'diff') return drawDiff(renderJob || viewer.job);
   const job = viewer.overlay === 'normals' ? viewer.normalsJob : viewer.job;
   if (!job) return;
   // Only images that exist: a finished normals job, a render with a frame.
@@ -294,22 +344,32 @@ async function drawOverlay() {
   } catch (e) { /* no frame yet */ }
 }
 
-// The grader's own comparison of the finished render with a case's
-// reference (its committed mean and variance): |z| per pixel.
-async function drawDiff() {
+// The grader's own comparison of render `job`'s last pass with a case's
+// reference (its committed mean and variance): |z| per pixel. An earlier
+// pass of the case's render is answered with when the difference comes
+// (202); each pass asks again.
+async function drawDiff(job) {
   const name = $('case').value;
-  if (!name || !viewer.job) {
+  if (!name || !job) {
     $('overlay-note').textContent = 'Pick a grading case (its settings must be the render\'s).';
     return;
   }
-  if (!viewer.status || viewer.status.state !== 'done') {
-    $('overlay-note').textContent = 'The difference is drawn when the render is done.';
+  const st = viewer.status;
+  if (!st || st.job !== job || !st.frame) {
+    $('overlay-note').textContent = 'The difference is drawn once the render has a pass.';
     return;
   }
   try {
-    const res = await api(`/api/diff?job=${viewer.job}&case=${encodeURIComponent(name)}`);
+    const res = await api(`/api/diff?job=${job}&case=${encodeURIComponent(name)}`);
+    if (job !== viewer.job) return;  // a newer render replaced it meanwhile
+    if (!(res instanceof Response)) {
+      $('overlay-note').textContent = `${name}: ${res.pending}`;
+      viewer.events.push({type: 'diff_pending', job, case: name, message: res.pending});
+      return;
+    }
     const w = Number(res.headers.get('X-Width')), h = Number(res.headers.get('X-Height'));
     const rgb = new Uint8Array(await res.arrayBuffer());
+    if (job !== viewer.job) return;
     const img = new ImageData(w, h);
     for (let i = 0; i < w * h; ++i) {
       img.data.set([rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2], 255], 4 * i);
@@ -317,10 +377,11 @@ async function drawDiff() {
     octx.putImageData(img, 0, 0);
     const summary = res.headers.get('X-Summary');
     $('overlay-note').textContent = `${name}: ${summary} (|z| per pixel, black 0 to white at the threshold, red beyond)`;
-    viewer.events.push({type: 'diff', job: viewer.job, case: name, summary});
+    viewer.events.push({type: 'diff', job, case: name, summary});
   } catch (e) {
+    if (job !== viewer.job) return;
     $('overlay-note').textContent = e.message;
-    viewer.events.push({type: 'diff', job: viewer.job, case: name, error: e.message});
+    viewer.events.push({type: 'diff', job, case: name, error: e.message});
   }
 }
 
@@ -359,7 +420,7 @@ async function startNormals() {
     const st = await api('/api/normals', request());
     viewer.normalsJob = st.job;
     let s = st;
-    while (s.state === 'running' && viewer.normalsJob === st.job) s = await api(`/api/status?job=${st.job}&after=0`);
+    while (s.state === 'running' && viewer.normalsJob === st.job) s = await waitStatus(st.job, 0);
     if (s.state === 'done') viewer.normalsReady = st.job;
     if (viewer.normalsJob === st.job) await drawOverlay();
   } catch (e) {
@@ -508,6 +569,9 @@ async function main() {
     return;
   }
   viewer.start = st.start;
+  // Why the settings start at this part (the build's parts still stubbed).
+  $('start-note').textContent = st.start_note || '';
+  $('start-note').hidden = !st.start_note;
   fillSelect(form.elements.scene, st.scenes, st.start.scene);
   fillSelect(form.elements.camera_file, st.cameras, st.start.camera_file, '(the scene\'s camera)');
   fillSelect(form.elements.env, st.envs, st.start.env, '(none)');

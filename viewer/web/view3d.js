@@ -4,6 +4,8 @@
 // draws; the scene's triangles and the BVH come from the server, the BVH
 // built by the build's own part 2 code in a worker.
 import * as THREE from 'three';
+import {parseBVH, box, area, raySpan} from '/web/bvh_data.js';
+import {coarseMesh, indexedMesh} from '/web/mesh.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -38,127 +40,10 @@ export function create(viewer, hooks) {
   const dimSphere = new THREE.MeshLambertMaterial({color: 0x6a6a6a, side});
   const hiSphere = new THREE.MeshLambertMaterial({color: 0xff9a2e, side});
 
-  // Meshes above this many triangles get a coarse copy drawn while the
-  // camera moves (software WebGL draws about 2-3 million triangles a second
-  // on these machines). The copy merges vertices on a grid of COARSE_CELLS
-  // per side: 48 leaves the 200,000-triangle dragon 5,674 triangles, which
-  // with the smaller buffer below keeps a moving frame within 16.7 ms.
-  const COARSE_ABOVE = 60000, COARSE_CELLS = 48;
   // The drawing buffer's scale while the camera moves (0.4: a sixth of the pixels).
   const MOVING_PIXEL_RATIO = 0.4;
 
-  // A coarse copy of an indexed mesh: vertices snapped to a grid of
-  // `cells` per side of its bounds and merged, triangles that collapse
-  // dropped, the rest kept in order. Returns the index array and, per kept
-  // triangle, its number in the full mesh.
-  function coarseIndex(geo, cells) {
-    const pos = geo.getAttribute('position').array, index = geo.index.array;
-    const nv = pos.length / 3;
-    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-    for (let v = 0; v < nv; ++v) {
-      for (let k = 0; k < 3; ++k) {
-        lo[k] = Math.min(lo[k], pos[3 * v + k]);
-        hi[k] = Math.max(hi[k], pos[3 * v + k]);
-      }
-    }
-    const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
-    const cell = (x, k) => Math.min(cells - 1, Math.floor((x - lo[k]) / size * cells));
-    const rep = new Int32Array(nv), seen = new Map();
-    for (let v = 0; v < nv; ++v) {
-      const key = (cell(pos[3 * v], 0) * cells + cell(pos[3 * v + 1], 1)) * cells + cell(pos[3 * v + 2], 2);
-      const r = seen.get(key);
-      if (r === undefined) seen.set(key, v);
-      rep[v] = r === undefined ? v : r;
-    }
-    const out = [], kept = [];
-    for (let t = 0; t < index.length / 3; ++t) {
-      const a = rep[index[3 * t]], b = rep[index[3 * t + 1]], c = rep[index[3 * t + 2]];
-      if (a !== b && b !== c && a !== c) {
-        out.push(a, b, c);
-        kept.push(t);
-      }
-    }
-    return {index: new Uint32Array(out), kept: new Uint32Array(kept)};
-  }
-
-  // The coarse mesh of `full` (same vertices and material), or null for a
-  // small mesh.
-  function coarseMesh(full) {
-    const geo = full.geometry;
-    if (geo.index.count / 3 <= COARSE_ABOVE) return null;
-    const c = coarseIndex(geo, COARSE_CELLS);
-    const g = new THREE.BufferGeometry();
-    g.setAttribute('position', geo.getAttribute('position'));
-    g.setAttribute('color', geo.getAttribute('color'));
-    g.setIndex(new THREE.BufferAttribute(c.index, 1));
-    const m = new THREE.Mesh(g, full.material);
-    m.userData.kept = c.kept;
-    m.visible = false;
-    return m;
-  }
   const coarse = {camera: null, bvh: null};  // [full, coarse] of each mode's mesh
-
-  // The baked lighting's direction: from above and in front.
-  const LIGHT = new THREE.Vector3(0.35, 0.8, 0.5).normalize();
-
-  // A triangle soup as an indexed mesh: corners with the same position,
-  // shading normal and key(triangle) become one vertex, so that each is
-  // transformed once (a smooth mesh shares each vertex among about six
-  // triangles). Its colour attribute holds the baked shade
-  // 0.3 + 0.7 |n . l| of the vertex normal; userData.owner[v] is a
-  // triangle that uses vertex v.
-  function indexedMesh(pos, nrm, key) {
-    const n = pos.length / 9, pu = new Uint32Array(pos.buffer, pos.byteOffset, pos.length);
-    const nu = new Uint32Array(nrm.buffer, nrm.byteOffset, nrm.length);
-    let cap = 1;
-    while (cap < n * 6) cap *= 2;
-    const table = new Int32Array(cap).fill(-1);
-    const outP = new Float32Array(n * 9), outN = new Float32Array(n * 9);
-    const outPU = new Uint32Array(outP.buffer), outNU = new Uint32Array(outN.buffer);
-    const owner = new Int32Array(n * 3), keys = new Int32Array(n * 3);
-    const index = new Uint32Array(n * 3);
-    let count = 0;
-    for (let c = 0; c < n * 3; ++c) {
-      const t = (c / 3) | 0, kt = key(t);
-      const a = pu[3 * c], b = pu[3 * c + 1], d = pu[3 * c + 2];
-      const e = nu[3 * c], f = nu[3 * c + 1], g = nu[3 * c + 2];
-      let h = Math.imul(a ^ Math.imul(b, 0x85ebca6b) ^ Math.imul(d, 0xc2b2ae35), 0x9e3779b1);
-      h = Math.imul(h ^ e ^ Math.imul(f, 0x27d4eb2f) ^ Math.imul(g, 0x165667b1) ^ kt, 0x9e3779b1);
-      let slot = (h >>> 7) & (cap - 1);
-      for (;;) {
-        const v = table[slot];
-        if (v < 0) {
-          table[slot] = count;
-          outPU.set([a, b, d], 3 * count);
-          outNU.set([e, f, g], 3 * count);
-          owner[count] = t;
-          keys[count] = kt;
-          index[c] = count++;
-          break;
-        }
-        if (outPU[3 * v] === a && outPU[3 * v + 1] === b && outPU[3 * v + 2] === d && outNU[3 * v] === e &&
-            outNU[3 * v + 1] === f && outNU[3 * v + 2] === g && keys[v] === kt) {
-          index[c] = v;
-          break;
-        }
-        slot = (slot + 1) & (cap - 1);
-      }
-    }
-    const shade = new Float32Array(count * 3);
-    for (let v = 0; v < count; ++v) {
-      const x = outN[3 * v], y = outN[3 * v + 1], z = outN[3 * v + 2];
-      const len = Math.hypot(x, y, z);
-      const k = 0.3 + 0.7 * (len > 0 ? Math.abs(x * LIGHT.x + y * LIGHT.y + z * LIGHT.z) / len : 0);
-      shade.set([k, k, k], 3 * v);
-    }
-    const geo = new THREE.BufferGeometry();
-    geo.setAttribute('position', new THREE.BufferAttribute(outP.slice(0, count * 3), 3));
-    geo.setAttribute('color', new THREE.BufferAttribute(shade, 3));
-    geo.setIndex(new THREE.BufferAttribute(index, 1));
-    geo.userData.owner = owner.subarray(0, count);
-    return geo;
-  }
-
 
   // ------------------------------------------------------------ drawing
 
@@ -175,9 +60,12 @@ export function create(viewer, hooks) {
     });
   }
 
+  // The canvas fills the view; in BVH mode the node's panel stands beside
+  // it (#bvh-info, 270 px), never over the scene.
   function fitCanvas() {
     const s = viewer.settings;
-    const maxW = Math.max(320, Math.min(960, window.innerWidth - 320)), maxH = Math.max(240, window.innerHeight - 160);
+    const beside = state.mode === 'bvh' ? 290 : 0;
+    const maxW = Math.max(320, Math.min(960, window.innerWidth - 320 - beside)), maxH = Math.max(240, window.innerHeight - 160);
     const k = Math.min(maxW / s.width, maxH / s.height);
     const w = Math.round(s.width * k), h = Math.round(s.height * k);
     renderer.setSize(w, h, true);
@@ -357,7 +245,7 @@ export function create(viewer, hooks) {
     if (state.bvhKey === key && state.bvh) return state.bvh;
     $('bvh-info').textContent = 'building the BVH…';
     let st = await hooks.api('/api/bvh', req);
-    while (st.state === 'running') st = await hooks.api(`/api/status?job=${st.job}&after=0`);
+    while (st.state === 'running') st = await viewer.waitStatus(st.job, 0);
     if (st.state !== 'done') {
       $('bvh-info').textContent = '';
       const lines = [st.message];
@@ -367,51 +255,7 @@ export function create(viewer, hooks) {
     }
     if (st.todo.length) hooks.banner(hooks.todoText(st.todo), 'todo');
     const res = await hooks.api(`/api/bvh-data?job=${st.job}`);
-    const buf = await res.arrayBuffer();
-    const headLen = new Uint32Array(buf, 0, 1)[0];
-    const head = JSON.parse(new TextDecoder().decode(new Uint8Array(buf, 4, headLen)));
-    const body = buf.slice(4 + headLen);
-    const n = head.nodes, np = head.prims;
-    const f = new Float32Array(body, 0, n * 8), u = new Uint32Array(body, 0, n * 8);
-    const prims = new Uint32Array(body, n * 32, np);
-    const entered = new Uint32Array(body, n * 32 + np * 4, n);
-    const bvh = {head, n, f, u, prims, entered, parent: new Int32Array(n).fill(-1), depth: new Int32Array(n).fill(-1),
-                 lo: new Uint32Array(n), hi: new Uint32Array(n), sah: new Float64Array(n), order: []};
-    // Breadth first from the root: parents, depths, and an order to walk back up.
-    if (n > 0) {
-      bvh.depth[0] = 0;
-      const queue = [0];
-      for (let qi = 0; qi < queue.length; ++qi) {
-        const i = queue[qi];
-        bvh.order.push(i);
-        if (u[8 * i + 7] === 0) {
-          for (const c of [u[8 * i + 3], u[8 * i + 3] + 1]) {
-            if (c < n && bvh.depth[c] < 0) {
-              bvh.parent[c] = i;
-              bvh.depth[c] = bvh.depth[i] + 1;
-              queue.push(c);
-            }
-          }
-        }
-      }
-    }
-    bvh.maxDepth = 0;
-    for (let k = bvh.order.length - 1; k >= 0; --k) {
-      const i = bvh.order[k];
-      bvh.maxDepth = Math.max(bvh.maxDepth, bvh.depth[i]);
-      const count = u[8 * i + 7];
-      if (count) {
-        bvh.lo[i] = u[8 * i + 3];
-        bvh.hi[i] = u[8 * i + 3] + count;
-        bvh.sah[i] = count;
-      } else {
-        const l = u[8 * i + 3], r = l + 1;
-        bvh.lo[i] = Math.min(bvh.lo[l], bvh.lo[r]);
-        bvh.hi[i] = Math.max(bvh.hi[l], bvh.hi[r]);
-        const a = area(bvh, i);
-        bvh.sah[i] = 1 + (a > 0 ? (area(bvh, l) * bvh.sah[l] + area(bvh, r) * bvh.sah[r]) / a : 0);
-      }
-    }
+    const bvh = parseBVH(await res.arrayBuffer());
     buildLeafOrderMesh(bvh);
     state.bvh = bvh;
     state.bvhKey = key;
@@ -420,16 +264,6 @@ export function create(viewer, hooks) {
     $('depth-slider').value = -1;
     state.depthShown = -1;
     return bvh;
-  }
-
-  function box(bvh, i) {
-    const f = bvh.f;
-    return {lo: [f[8 * i], f[8 * i + 1], f[8 * i + 2]], hi: [f[8 * i + 4], f[8 * i + 5], f[8 * i + 6]]};
-  }
-  function area(bvh, i) {
-    const b = box(bvh, i);
-    const e = [0, 1, 2].map((k) => Math.max(0, b.hi[k] - b.lo[k]));
-    return 2 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
   }
 
   // The triangles in the BVH's leaf order, so that a node's primitives
@@ -609,25 +443,6 @@ export function create(viewer, hooks) {
     const [near, far] = hits;
     const inner = far && far.leave <= near.leave ? far : near;
     go(inner.side);
-  }
-
-  // Where a ray enters and leaves a box ({enter, leave}, distances along
-  // the ray from its origin, enter 0 when it starts inside), or null when it
-  // misses the box.
-  function raySpan(r, b) {
-    let enter = 0, leave = Infinity;
-    for (const [k, axis] of [[0, 'x'], [1, 'y'], [2, 'z']]) {
-      const o = r.origin[axis], d = r.direction[axis];
-      if (d === 0) {
-        if (o < b.lo[k] || o > b.hi[k]) return null;
-        continue;
-      }
-      let t0 = (b.lo[k] - o) / d, t1 = (b.hi[k] - o) / d;
-      if (t0 > t1) [t0, t1] = [t1, t0];
-      enter = Math.max(enter, t0);
-      leave = Math.min(leave, t1);
-    }
-    return enter <= leave ? {enter, leave} : null;
   }
 
   $('btn-parent').addEventListener('click', () => go('parent'));

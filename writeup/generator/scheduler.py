@@ -60,7 +60,7 @@ def cost_units(r):
     spp = int(get_flag(r.flags, "-s", ["1"])[0])
     l = int(get_flag(r.flags, "-l", ["1"])[0])
     m = int(get_flag(r.flags, "-m", ["1"])[0])
-    part = int(get_flag(r.flags, "--part", ["5"])[0])
+    part = int(get_flag(r.flags, "--part", ["9"])[0])
     prims = os.path.getsize(r.scene) / 32.0
     if part == 1:
         per_ray = 1 + prims / 15.0
@@ -71,7 +71,7 @@ def cost_units(r):
         if part >= 4:
             depth = min(m, 12) if get_flag(r.flags, "--no-rr") is not None else min(m, 5)
             per_ray *= 1 + 0.6 * depth
-        if part == 5 and spp > 1:
+        if part >= 5 and spp > 1:
             spp = max(1, spp // 4)
     load = prims / 2e5 * 1.5  # seconds to load and build
     return w * h * spp * per_ray * 4e-7 + load + 0.05

@@ -109,6 +109,9 @@ def generate(files, tmp, modes=None):
             os.chmod(path, modes[rel])
     os.makedirs(os.path.join(tree, GENERATOR_DIR), exist_ok=True)
     shutil.copy2(os.path.join(SOURCE, GENERATOR_DIR, "make_starter_kit.py"), os.path.join(tree, GENERATOR_DIR))
+    # and the modules it runs, beside it
+    shutil.copytree(os.path.join(SOURCE, GENERATOR_DIR, "kitgen"), os.path.join(tree, GENERATOR_DIR, "kitgen"),
+                    ignore=shutil.ignore_patterns("__pycache__"))
     dest = os.path.join(tmp, "kit")
     shutil.rmtree(dest, ignore_errors=True)
     p = subprocess.run([sys.executable, os.path.join(tree, GENERATOR_DIR, "make_starter_kit.py"), dest],

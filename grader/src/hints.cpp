@@ -1,0 +1,305 @@
+#include "grader/src/hints.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "grader/src/text.h"
+
+namespace grader {
+
+namespace {
+
+// How two failing cases differ, from 0 (alike) to 1. A case one fails and
+// the other passes counts 1: which cases fail is most of a signature (it
+// says which part, and which scenes: meshes, spheres, open skies, -H). Of
+// two failing cases, half is how the image's mean moved (its direction
+// and size, compared as tanh of twice the log ratio, so that x1.3 and x2
+// are both "too bright", apart from x0.7), a third is where it moved (each
+// region's log ratio against the whole image's), and the rest is what
+// failed: the image, the noise, the rate, the costs, or the render itself.
+
+double figure(const CaseSignature& c, const char* key, double fallback) {
+  const auto it = c.figures.find(key);
+  return it == c.figures.end() ? fallback : it->second;
+}
+
+double log_ratio(const CaseSignature& c, const char* key) {
+  const double r = figure(c, key, 1.0);
+  return r > 0 ? std::clamp(std::log(r), -3.0, 3.0) : -3.0;
+}
+
+// What failed in a case: a bit per check and per kind of broken render.
+unsigned failure_bits(const CaseSignature& c) {
+  static const char* const kKinds[] = {"failed_image", "failed_noise", "failed_rate", "failed_cost",
+                                       "failed_speedup", "failure_nan", "failure_negative", "failure_crash",
+                                       "failure_timeout", "failure_exit", "failure_todo", "failure_output"};
+  unsigned bits = 0;
+  for (unsigned i = 0; i < sizeof kKinds / sizeof kKinds[0]; ++i)
+    if (figure(c, kKinds[i], 0) > 0) bits |= 1u << i;
+  return bits;
+}
+
+double case_distance(const CaseSignature* a, const CaseSignature* b) {
+  const bool fa = a && a->failed, fb = b && b->failed;
+  if (fa != fb) return 1.0;
+  if (!fa) return 0.0;
+  const double mean = std::fabs(std::tanh(2 * log_ratio(*a, "mean_ratio")) - std::tanh(2 * log_ratio(*b, "mean_ratio")));
+  static const char* const kRegions[] = {"ratio_bright", "ratio_dark",  "ratio_mid",   "ratio_edges",
+                                         "ratio_flat",   "ratio_top",   "ratio_bottom", "rate_ratio",
+                                         "shadow_rays_ratio", "shadow_tests_ratio", "closest_tests_ratio"};
+  double where = 0;
+  for (const char* key : kRegions)
+    where += std::fabs((log_ratio(*a, key) - log_ratio(*a, "mean_ratio")) -
+                       (log_ratio(*b, key) - log_ratio(*b, "mean_ratio")));
+  where = std::min(1.0, where / 2.0);
+  const unsigned x = failure_bits(*a) ^ failure_bits(*b);
+  const double what = x == 0 ? 0.0 : 1.0;
+  return 0.5 * std::min(1.0, mean) + 0.3 * where + 0.2 * what;
+}
+
+// The median of the build's figure `key` over the cases `bug` fails.
+double median_over(const BuildSignature& build, const KnownBug& bug, const char* key) {
+  std::vector<double> v;
+  for (const auto& [name, c] : bug.cases) {
+    if (!c.failed) continue;
+    const auto b = build.find(name);
+    if (b == build.end()) continue;
+    const auto f = b->second.figures.find(key);
+    if (f != b->second.figures.end()) v.push_back(f->second);
+  }
+  if (v.empty()) return -1;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+std::string factor(double x) {
+  if (x < 0) return "an unknown factor";
+  return x >= 10 ? fmt("x%.0f", x) : x >= 0.1 ? fmt("x%.2g", x) : fmt("x%.1g", x);
+}
+
+// The bug's words with the build's figures put in.
+std::string fill(const BuildSignature& build, const KnownBug& bug) {
+  std::string s = bug.hint;
+  const std::pair<const char*, const char*> slots[] = {{"{ratio}", "mean_ratio"},
+                                                       {"{rate}", "rate_ratio"},
+                                                       {"{tests}", "closest_tests_ratio"},
+                                                       {"{shadow_tests}", "shadow_tests_ratio"},
+                                                       {"{shadow_rays}", "shadow_rays_ratio"},
+                                                       {"{noise}", "noise_ratio"}};
+  for (const auto& [slot, key] : slots)
+    for (size_t at; (at = s.find(slot)) != std::string::npos;)
+      s.replace(at, std::string(slot).size(), factor(median_over(build, bug, key)));
+  return s;
+}
+
+std::string section_of(const std::string& readme) {
+  const size_t hash = readme.find('#');
+  return hash == std::string::npos ? readme : readme.substr(0, hash) + " (\"" + readme.substr(hash + 1) + "\")";
+}
+
+BuildSignature cases_from_json(const Json& j, const std::string& where) {
+  BuildSignature out;
+  if (j.type != Json::Type::Object) throw std::runtime_error(where + ": \"cases\" is not an object");
+  for (const auto& [name, c] : j.members) {
+    CaseSignature cs;
+    cs.failed = c.flag("failed");
+    if (const Json* f = c.get("signature"))
+      for (const auto& [key, v] : f->members)
+        if (v.type == Json::Type::Number) cs.figures[key] = v.number;
+    out[name] = cs;
+  }
+  return out;
+}
+
+}  // namespace
+
+Catalogue read_catalogue(const std::string& path) {
+  const Json j = pt::read_json_file(path);
+  Catalogue cat;
+  cat.commit = j.str("commit");
+  cat.date = j.str("date");
+  const Json* bugs = j.get("bugs");
+  if (!bugs || bugs->type != Json::Type::Array) throw std::runtime_error(path + ": no \"bugs\" array");
+  for (const Json& b : bugs->array) {
+    KnownBug k;
+    k.name = b.str("name");
+    k.part = int(b.num("part", 0));
+    k.function = b.str("function");
+    k.file = b.str("file");
+    k.readme = b.str("readme");
+    k.hint = b.str("hint");
+    if (k.name.empty() || k.function.empty() || k.hint.empty())
+      throw std::runtime_error(path + ": a bug without a name, function or hint");
+    const Json* cases = b.get("cases");
+    if (!cases) throw std::runtime_error(path + ": bug " + k.name + " has no cases");
+    k.cases = cases_from_json(*cases, path + ": bug " + k.name);
+    cat.bugs.push_back(std::move(k));
+  }
+  return cat;
+}
+
+BuildSignature build_signature(const std::vector<CaseResult>& results) {
+  BuildSignature b;
+  for (const CaseResult& r : results) {
+    CaseSignature c;
+    c.failed = r.verdict != Verdict::Passed || r.score < r.max_score;
+    c.figures = r.signature;
+    b[r.c.name] = c;
+  }
+  return b;
+}
+
+CaseGroups case_groups(const std::vector<Case>& cases) {
+  CaseGroups g;
+  const auto has = [](const Case& c, const char* opt) {
+    return std::find(c.options.begin(), c.options.end(), opt) != c.options.end();
+  };
+  const auto scene = [](const Case& c, const char* part) { return c.scene.find(part) != std::string::npos; };
+  for (const Case& c : cases) {
+    std::vector<std::string>& v = g[c.name];
+    v.push_back("part" + std::to_string(c.part));
+    if (c.part >= 3) v.push_back(has(c, "-H") ? "hemisphere" : "light_sampling");
+    if (has(c, "-e") || scene(c, "ambient")) v.push_back("open_sky");
+    if (scene(c, "sphere")) v.push_back("spheres");
+    for (const char* mesh : {"bunny", "cow", "dragon", "teapot", "armadillo"})
+      if (scene(c, mesh)) v.push_back("mesh");
+    if (scene(c, "CBempty") || scene(c, "CBlights") || (scene(c, "cow") && !has(c, "-e") && c.part >= 3))
+      v.push_back("delta_lights");
+    if (has(c, "-o")) v.push_back("last_bounce_only");
+    if (c.kind == CaseKind::Rate) v.push_back("adaptive");
+    if (c.kind == CaseKind::Speedup) v.push_back("speedup");
+  }
+  return g;
+}
+
+double signature_distance(const BuildSignature& build, const BuildSignature& bug, const CaseGroups& groups) {
+  std::set<std::string> names;
+  for (const auto& [n, c] : build)
+    if (c.failed) names.insert(n);
+  for (const auto& [n, c] : bug)
+    if (c.failed) names.insert(n);
+  if (names.empty()) return 0;
+  double sum = 0;
+  for (const std::string& n : names) {
+    const auto a = build.find(n), b = bug.find(n);
+    sum += case_distance(a == build.end() ? nullptr : &a->second, b == bug.end() ? nullptr : &b->second);
+  }
+  // The fraction of each group's cases that fail, for both.
+  std::map<std::string, std::pair<double, double>> fraction;  // group -> (build, bug)
+  std::map<std::string, int> size;
+  const auto fails = [](const BuildSignature& s, const std::string& n) {
+    const auto it = s.find(n);
+    return it != s.end() && it->second.failed;
+  };
+  for (const auto& [n, gs] : groups)
+    for (const std::string& gname : gs) {
+      ++size[gname];
+      fraction[gname].first += fails(build, n);
+      fraction[gname].second += fails(bug, n);
+    }
+  double group_sum = 0;
+  int group_count = 0;
+  for (const auto& [gname, f] : fraction) {
+    if (f.first == 0 && f.second == 0) continue;
+    group_sum += std::fabs(f.first - f.second) / size[gname];
+    ++group_count;
+  }
+  const double by_case = sum / double(names.size()), by_group = group_count ? group_sum / group_count : 0.0;
+  return 0.5 * by_case + 0.5 * by_group;
+}
+
+std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
+                              int max_hints, const std::string& exclude) {
+  std::vector<Hint> all;
+  const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
+  if (!fails) return all;
+  for (const KnownBug& bug : catalogue.bugs) {
+    if (bug.name == exclude) continue;
+    all.push_back(Hint{&bug, signature_distance(build, bug.cases, groups), ""});
+  }
+  std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
+  std::vector<Hint> out;
+  std::set<std::string> functions;
+  for (Hint& h : all) {
+    // Beyond the nearest, only bugs nearly as near: a second guess far
+    // behind a close first one is noise, not help.
+    if (int(out.size()) >= max_hints || h.distance > kHintDistance) break;
+    if (!out.empty() && h.distance > out[0].distance + kHintSpread) break;
+    if (!functions.insert(h.bug->function).second) continue;
+    h.text = fill(build, *h.bug) + " (" + h.bug->function + " in " + h.bug->file + "; read " +
+             section_of(h.bug->readme) + ")";
+    out.push_back(h);
+  }
+  return out;
+}
+
+std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseSignature& figures,
+                                       const Catalogue& catalogue, const CaseGroups& groups, int max_hints) {
+  if (!figures.failed) return {};
+  Catalogue one;
+  for (const KnownBug& bug : catalogue.bugs) {
+    const auto it = bug.cases.find(case_name);
+    if (it == bug.cases.end() || !it->second.failed) continue;
+    KnownBug b = bug;
+    b.cases = {{case_name, it->second}};
+    one.bugs.push_back(std::move(b));
+  }
+  const BuildSignature build = {{case_name, figures}};
+  std::vector<Hint> hints = likely_bugs(build, one, groups, max_hints);
+  // The texts point into `one`: re-point them at the caller's catalogue.
+  for (Hint& h : hints)
+    for (const KnownBug& bug : catalogue.bugs)
+      if (bug.name == h.bug->name) h.bug = &bug;
+  return hints;
+}
+
+std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
+                                    const CaseGroups& groups) {
+  const BuildSignature build = build_signature(results);
+  const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
+  if (!fails || catalogue.bugs.empty()) return {};
+  const std::vector<Hint> hints = likely_bugs(build, catalogue, groups);
+  if (hints.empty())
+    return {"Likely cause: no known bug's signature is close to this build's; the failed cases' messages are "
+            "what there is to go on"};
+  std::vector<std::string> lines;
+  for (size_t i = 0; i < hints.size(); ++i)
+    lines.push_back("Likely cause " + std::to_string(i + 1) + " of " + std::to_string(hints.size()) + ": " +
+                    hints[i].text);
+  return lines;
+}
+
+std::string leave_one_out_table(const Catalogue& catalogue, const CaseGroups& groups, double* function_rate,
+                                double* part_rate) {
+  std::string rows;
+  int right_function = 0, right_part = 0, n = 0;
+  for (const KnownBug& bug : catalogue.bugs) {
+    const bool fails = std::any_of(bug.cases.begin(), bug.cases.end(), [](const auto& c) { return c.second.failed; });
+    if (!fails) continue;
+    ++n;
+    const std::vector<Hint> hints = likely_bugs(bug.cases, catalogue, groups, 3, bug.name);
+    bool function_ok = false, part_ok = false;
+    std::string named;
+    for (const Hint& h : hints) {
+      function_ok |= h.bug->function == bug.function;
+      part_ok |= h.bug->part == bug.part;
+      named += (named.empty() ? "" : ", ") + h.bug->function + fmt(" (%.2f)", h.distance);
+    }
+    right_function += function_ok;
+    right_part += part_ok;
+    rows += "| " + bug.name + " | " + std::to_string(bug.part) + " | " + bug.function + " | " +
+            (named.empty() ? std::string("none close") : named) + " | " + (function_ok ? "yes" : "no") + " | " +
+            (part_ok ? "yes" : "no") + " |\n";
+  }
+  *function_rate = n ? double(right_function) / n : 0;
+  *part_rate = n ? double(right_part) / n : 0;
+  return "| bug | part | function | hints (function, distance) | right function in the top three | right part in "
+         "the top three |\n|---|---:|---|---|---|---|\n" +
+         rows + "\nRight function: " + std::to_string(right_function) + " of " + std::to_string(n) +
+         fmt(" (%.0f %%)", 100.0 * *function_rate) + "; right part: " + std::to_string(right_part) + " of " +
+         std::to_string(n) + fmt(" (%.0f %%).\n", 100.0 * *part_rate);
+}
+
+}  // namespace grader

@@ -1,0 +1,99 @@
+// Hints: the known bugs whose signatures are closest to a graded build's.
+//
+// The catalogue (grader/known_bugs.json, made from the mutants by
+// instructors/mutants/make_catalogue.py) holds, for every known bug, where
+// it lives (part, function, file, the README section to read), a hint in a
+// student's words, and its signature on every case: which cases it fails
+// and how (signature.h). A build's signature is compared with each bug's
+// over the cases either fails; the closest bugs, at most one per function,
+// become the report's hints, with the build's own figures put into their
+// words. Hints never hold solution code, and a build that fails nothing
+// gets none.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include "grader/src/case_result.h"
+#include "grader/src/signature.h"
+
+namespace grader {
+
+// One case as the hints see it: whether it lost points, and its signature.
+struct CaseSignature {
+  bool failed = false;
+  Signature figures;
+};
+using BuildSignature = std::map<std::string, CaseSignature>;  // by case name
+
+struct KnownBug {
+  std::string name;
+  int part = 0;
+  std::string function, file, readme;  // readme: "stages/part4_global_illumination/README.md#the-functions-to-write"
+  // A student's words, with the build's figures put in: {ratio} the image
+  // mean's ratio to the reference's ("x1.9"), {rate} the sample rate's,
+  // {tests} the tests per query's, {shadow_rays} shadow rays per query's,
+  // {noise} the variance's, each the median over the cases the bug fails.
+  std::string hint;
+  BuildSignature cases;
+};
+
+struct Catalogue {
+  std::string commit, date;
+  std::vector<KnownBug> bugs;
+};
+
+// Throws std::runtime_error naming the file when it is missing or malformed.
+Catalogue read_catalogue(const std::string& path);
+
+// A build's signature from its graded cases.
+BuildSignature build_signature(const std::vector<CaseResult>& results);
+
+// What kind of case each is (its part, -H, an open sky, spheres, meshes,
+// delta lights, -o 0, adaptive sampling, ...), from the case list: the
+// groups whose failing fractions a signature is also compared by, so that
+// two bugs that fail different cases of the same kind are near.
+using CaseGroups = std::map<std::string, std::vector<std::string>>;  // case name -> its groups
+CaseGroups case_groups(const std::vector<Case>& cases);
+
+// How far a build's signature is from a bug's, from 0 (the same) to 1: half
+// the mean difference over the cases either fails, half the difference of
+// the fractions of each group's cases they fail.
+double signature_distance(const BuildSignature& build, const BuildSignature& bug, const CaseGroups& groups);
+
+struct Hint {
+  const KnownBug* bug = nullptr;
+  double distance = 0;
+  std::string text;  // the hint in words, with the function, file and README section
+};
+
+// Hints farther than this say nothing: "no known bug is close" instead.
+constexpr double kHintDistance = 0.7;
+// Further hints only within this much of the nearest one's distance.
+constexpr double kHintSpread = 0.2;
+
+// Up to `max_hints` closest known bugs within kHintDistance (and within
+// kHintSpread of the nearest), one per function, nearest first; none when the build fails nothing. `exclude`:
+// a bug left out (the leave-one-out evaluation).
+std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
+                              int max_hints = 3, const std::string& exclude = "");
+
+// Hints from one case alone (the viewer's difference overlay, `grader
+// compare`): the case's signature against each known bug's on that case
+// only; bugs that pass the case are not candidates.
+std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseSignature& figures,
+                                       const Catalogue& catalogue, const CaseGroups& groups, int max_hints = 3);
+
+// The report's lines: "Likely cause: ..." per hint, or one line saying
+// that nothing in the catalogue is close; nothing for a build that fails
+// nothing.
+std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
+                                    const CaseGroups& groups);
+
+// The leave-one-out table (Markdown): every bug's own signature matched
+// against the rest of the catalogue; the right function among the top
+// three, the right part first. Returns the two rates through the pointers.
+std::string leave_one_out_table(const Catalogue& catalogue, const CaseGroups& groups, double* function_rate,
+                                double* part_rate);
+
+}  // namespace grader

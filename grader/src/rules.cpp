@@ -1,0 +1,82 @@
+#include "grader/src/rules.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "grader/src/run_case.h"
+
+namespace grader {
+
+namespace fs = std::filesystem;
+
+std::map<std::string, QueryCosts> read_plain_bvh_costs(const std::string& path) {
+  std::map<std::string, QueryCosts> out;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return out;
+  Json j;
+  try {
+    j = pt::read_json_file(path);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  const Json* cases = j.get("cases");
+  if (!cases || cases->type != Json::Type::Object) throw std::runtime_error(path + ": no \"cases\" object");
+  for (const auto& [name, v] : cases->members) {
+    if (v.type != Json::Type::Object) throw std::runtime_error(path + ": case " + name + " is not an object");
+    QueryCosts q;
+    q.closest_tests = v.num("closest_tests_per_query", -1);
+    q.shadow_tests = v.num("shadow_tests_per_query", -1);
+    out[name] = q;
+  }
+  return out;
+}
+
+Rules make_rules(const std::vector<Case>& all, const std::string& references) {
+  Rules r;
+  int scored = 0;
+  for (const Case& c : all) {
+    Reference ref;
+    std::string why;
+    const bool deterministic = load_reference(references, c, &ref, &why) && ref.deterministic;
+    if (!deterministic) scored += c.kind == CaseKind::Rate ? 2 : 1;
+  }
+  r.scored_images = std::max(1, scored);
+  r.plain_bvh = read_plain_bvh_costs(references + "/plain_bvh_costs.json");
+  return r;
+}
+
+std::string case_method(const Case& c) {
+  const int spp = case_int_option(c, "-s", 1), lights = case_int_option(c, "-l", 1);
+  const bool hemisphere = std::find(c.options.begin(), c.options.end(), "-H") != c.options.end();
+  switch (c.part) {
+    case 1:
+      return "jittered pixel sampling at -s " + std::to_string(spp);
+    case 3:
+      return hemisphere ? std::string("uniform hemisphere sampling (-H)")
+                        : "light sampling (-l " + std::to_string(lights) + ")";
+    case 4:
+      return std::string("path tracing with light sampling at every bounce") +
+             (hemisphere ? " (-H)" : "");
+    default:
+      return "adaptive sampling with light sampling";
+  }
+}
+
+RenderPlan render_plan(const Case& c, bool deterministic, const Rules& rules) {
+  RenderPlan p;
+  p.c = c;
+  if (deterministic || rules.renders < 2) return p;
+  p.renders = rules.renders;
+  const int spp = case_int_option(c, "-s", 1);
+  // Adaptive sampling's -s is the rule's maximum, not a budget to share.
+  if (c.kind == CaseKind::Rate || spp % rules.renders != 0 || spp / rules.renders < 2) return p;
+  for (size_t i = 0; i + 1 < p.c.options.size(); ++i)
+    if (p.c.options[i] == "-s") p.c.options[i + 1] = std::to_string(spp / rules.renders);
+  p.share = 1.0 / rules.renders;
+  return p;
+}
+
+uint64_t candidate_seed(uint64_t seed, int k) { return (uint64_t(1) << 32) + 64 * seed + uint64_t(k); }
+
+}  // namespace grader

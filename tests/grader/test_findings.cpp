@@ -1,0 +1,169 @@
+// What a grading run notices across cases (findings.h), on made-up results.
+#include <catch2/catch.hpp>
+
+#include "grader/src/findings.h"
+#include "grader/src/hints.h"
+#include "grader/src/signature.h"
+
+using namespace grader;
+
+namespace {
+
+CaseResult result(const std::string& name, int part, Verdict v, const Signature& sig,
+                  std::vector<std::string> options = {}) {
+  CaseResult r;
+  r.c.name = name;
+  r.c.part = part;
+  r.c.options = std::move(options);
+  r.verdict = v;
+  r.signature = sig;
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("NaN pixels are reported once, with the first part and case where they appear", "[grader]") {
+  const std::vector<CaseResult> rs = {
+      result("p1_a", 1, Verdict::Passed, {{"mean_ratio", 1.0}}),
+      result("p4_m2", 4, Verdict::Failed, {{"failure_nan", 1}, {"nan_pixels", 40}}),
+      result("p3_spheres_light", 3, Verdict::Failed, {{"failure_nan", 1}, {"nan_pixels", 12}}),
+  };
+  const std::vector<std::string> f = run_findings(rs);
+  REQUIRE(f.size() == 1);
+  CHECK_THAT(f[0], Catch::StartsWith("NaN pixels first appear in part 3 (p3_spheres_light, 12 pixels; 2 cases in all)"));
+  CHECK_THAT(f[0], Catch::Contains("positive pdf"));
+  CHECK(run_findings({rs[0]}).empty());
+}
+
+TEST_CASE("Part 3 images uniformly half as bright in two cases are reported as self-shadowing", "[grader]") {
+  const Signature half = {{"mean_ratio", 0.48}, {"ratio_bright", 0.5}, {"ratio_mid", 0.46}};
+  const Signature dark_shadows_only = {{"mean_ratio", 0.6}, {"ratio_bright", 0.98}, {"ratio_mid", 0.5}};
+  std::vector<CaseResult> rs = {result("p3_spheres_light", 3, Verdict::Failed, half),
+                                result("p3_hemi", 3, Verdict::Failed, half, {"-H"})};
+  CHECK(run_findings(rs).empty());  // one light-sampling case: not a pattern; -H does not count
+  rs.push_back(result("p3_bunny_light", 3, Verdict::Failed, half));
+  const std::vector<std::string> f = run_findings(rs);
+  REQUIRE(f.size() == 1);
+  CHECK_THAT(f[0], Catch::StartsWith("part 3's images are about half as bright everywhere (p3_spheres_light x0.48, "
+                                     "p3_bunny_light x0.48): self-shadowing?"));
+  CHECK_THAT(f[0], Catch::Contains("kRayEpsilon") && Catch::Contains("EPS_D"));
+  // Dark only in some regions (a missing term, not acne) is not this.
+  rs = {result("a", 3, Verdict::Failed, dark_shadows_only), result("b", 3, Verdict::Failed, dark_shadows_only)};
+  CHECK(run_findings(rs).empty());
+}
+
+// ---- Hints from the known bugs' signatures (hints.h) ----
+
+namespace {
+
+Case make_case(const std::string& name, int part, const std::string& scene, std::vector<std::string> options = {}) {
+  Case c;
+  c.name = name;
+  c.part = part;
+  c.scene = scene;
+  c.options = std::move(options);
+  return c;
+}
+
+const std::vector<Case> kCases = {
+    make_case("p1_spheres", 1, "CBspheres_lambertian.dae"), make_case("p1_cow", 1, "cow.dae"),
+    make_case("p3_spheres_light", 3, "CBspheres_lambertian.dae"),
+    make_case("p3_spheres_hemisphere", 3, "CBspheres_lambertian.dae", {"-H"}),
+    make_case("p4_m2", 4, "CBspheres_lambertian.dae", {"-m", "2"}),
+    make_case("p4_m5", 4, "CBspheres_lambertian.dae", {"-m", "5"})};
+
+CaseSignature failing(double ratio) {
+  CaseSignature c;
+  c.failed = true;
+  c.figures = {{"mean_ratio", ratio}, {"failed_image", 1}};
+  return c;
+}
+
+KnownBug bug(const std::string& name, int part, const std::string& function, const std::string& hint,
+             BuildSignature cases) {
+  KnownBug b;
+  b.name = name;
+  b.part = part;
+  b.function = function;
+  b.file = "stages/x.cpp";
+  b.readme = "stages/README.md#Section";
+  b.hint = hint;
+  b.cases = std::move(cases);
+  return b;
+}
+
+Catalogue catalogue() {
+  Catalogue c;
+  c.bugs = {bug("emission_twice", 4, "at_least_one_bounce_radiance", "too bright by about {ratio} after two bounces",
+                {{"p4_m2", failing(1.9)}, {"p4_m5", failing(2.0)}}),
+            bug("no_rr_division", 4, "at_least_one_bounce_radiance", "too dark ({ratio})", {{"p4_m5", failing(0.8)}}),
+            bug("hemisphere_pdf", 3, "estimate_direct_lighting_hemisphere", "-H off ({ratio})",
+                {{"p3_spheres_hemisphere", failing(0.5)}}),
+            bug("sphere_root", 1, "intersect_sphere", "spheres inside out",
+                {{"p1_spheres", failing(0.7)}, {"p3_spheres_light", failing(0.6)}, {"p4_m2", failing(0.6)}})};
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("Hints: the nearest known bug comes first, in words, with the build's own figures", "[grader]") {
+  const Catalogue cat = catalogue();
+  const CaseGroups groups = case_groups(kCases);
+  const BuildSignature build = {{"p4_m2", failing(1.7)}, {"p4_m5", failing(1.8)}};
+  const std::vector<Hint> hints = likely_bugs(build, cat, groups);
+  REQUIRE(!hints.empty());
+  CHECK(hints[0].bug->name == "emission_twice");
+  CHECK_THAT(hints[0].text, Catch::StartsWith("too bright by about x1.8 after two bounces (at_least_one_bounce_radiance "
+                                              "in stages/x.cpp; read stages/README.md (\"Section\"))"));
+  // One hint per function: no_rr_division is the same function.
+  for (size_t i = 1; i < hints.size(); ++i) CHECK(hints[i].bug->function != hints[0].bug->function);
+  CHECK(signature_distance(cat.bugs[0].cases, cat.bugs[0].cases, groups) == 0.0);
+}
+
+TEST_CASE("Hints: none for a build that fails nothing, and a plain 'nothing close' when no bug is near", "[grader]") {
+  const Catalogue cat = catalogue();
+  std::vector<CaseResult> passing(2);
+  passing[0].c = kCases[0];
+  passing[0].verdict = Verdict::Passed;
+  passing[0].score = passing[0].max_score = 1;
+  passing[1] = passing[0];
+  passing[1].c = kCases[1];
+  CHECK(hint_lines(passing, cat, case_groups(kCases)).empty());
+
+  // A build that fails only the cow, which no known bug does.
+  std::vector<CaseResult> odd = passing;
+  odd[1].verdict = Verdict::Failed;
+  odd[1].score = 0;
+  odd[1].signature = {{"failure_crash", 1}};
+  const std::vector<std::string> lines = hint_lines(odd, cat, case_groups(kCases));
+  REQUIRE(lines.size() == 1);
+  CHECK_THAT(lines[0], Catch::StartsWith("Likely cause: no known bug's signature is close"));
+}
+
+TEST_CASE("Hints: leave-one-out names the right function when another bug of it is near", "[grader]") {
+  Catalogue cat = catalogue();
+  // A second hemisphere bug like the first: leaving either out, the other names the function.
+  cat.bugs.push_back(bug("hemisphere_not_to_world", 3, "estimate_direct_lighting_hemisphere", "-H from the wrong side",
+                         {{"p3_spheres_hemisphere", failing(0.6)}}));
+  double function_rate = 0, part_rate = 0;
+  const std::string table = leave_one_out_table(cat, case_groups(kCases), &function_rate, &part_rate);
+  CHECK_THAT(table, Catch::Contains("| hemisphere_pdf | 3 | estimate_direct_lighting_hemisphere | "
+                                    "estimate_direct_lighting_hemisphere"));
+  CHECK(function_rate > 0.5);
+  CHECK(part_rate >= function_rate);
+}
+
+TEST_CASE("The catalogue refuses a malformed file, naming it", "[grader]") {
+  CHECK_THROWS_WITH(read_catalogue("/nonexistent/known_bugs.json"), Catch::Contains("/nonexistent/known_bugs.json"));
+}
+
+TEST_CASE("Hints from one case alone: only bugs that fail that case, nearest first", "[grader]") {
+  const Catalogue cat = catalogue();
+  const std::vector<Hint> hints =
+      likely_bugs_for_case("p4_m2", failing(1.8), cat, case_groups(kCases));
+  REQUIRE(!hints.empty());
+  CHECK(hints[0].bug->name == "emission_twice");
+  CHECK(hints[0].bug == &cat.bugs[0]);  // points into the caller's catalogue
+  for (const Hint& h : hints) CHECK(h.bug->name != "hemisphere_pdf");  // passes p4_m2
+  CHECK(likely_bugs_for_case("p4_m2", CaseSignature{}, cat, case_groups(kCases)).empty());  // a passing case
+}

@@ -1,0 +1,151 @@
+// The grader judges a Monte Carlo image with the graded build's own noise:
+// several independent renders, their spread pooled over 3x3 pixels. On
+// synthetic renders with known distributions: a correct estimator noisier
+// than the reference's passes, heavy tails (the fireflies of Russian
+// roulette) pass, a bias fails whatever the noise, and the noise ratio is
+// what the noise check reads.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "grader/src/scoring.h"
+
+using namespace grader;
+
+namespace {
+
+ImageBuffer constant(int w, int h, float v) {
+  ImageBuffer img(w, h);
+  for (pt::Color& p : img.pixels) p = pt::Color(v);
+  return img;
+}
+
+// One render: each pixel channel the mean of `spp` draws of `sample`.
+template <class Sample>
+ImageBuffer render(int w, int h, int spp, Sample sample) {
+  ImageBuffer img(w, h);
+  for (pt::Color& p : img.pixels)
+    for (int c = 0; c < 3; ++c) {
+      double sum = 0;
+      for (int i = 0; i < spp; ++i) sum += sample();
+      p[c] = float(sum / spp);
+    }
+  return img;
+}
+
+template <class Sample>
+CandidateRenders renders(int k, int w, int h, int spp, Sample sample) {
+  CandidateRenders c;
+  for (int i = 0; i < k; ++i) c.images.push_back(render(w, h, spp, sample));
+  return c;
+}
+
+}  // namespace
+
+// The reference: mean 0.5, per-sample variance 0.25 (a render at 16 spp
+// has variance 0.25 / 16). The candidate: the same mean, four times the
+// variance per sample (a legal estimator that samples worse). 100 seeded
+// trials of 4 renders each; the tests' levels (pixel 0.01 with a 0.25 %
+// allowance, blocks and image mean 0.001 each) allow about 0.2 failures in
+// 100 trials: at most 2 (P(Binomial(100, 0.003) > 2) < 0.004). Judged with
+// the reference's noise instead, every trial fails.
+TEST_CASE("A correct estimator four times noisier than the reference's passes when judged with its own renders",
+          "[grader]") {
+  const int w = 64, h = 48, spp = 16;
+  const ImageBuffer mean = constant(w, h, 0.5f), var = constant(w, h, 0.25f / spp);
+  std::mt19937_64 rng(26);
+  std::normal_distribution<double> noisier(0.5, 1.0);  // sd 1: variance 1 = 4 x 0.25
+  const auto sample = [&] { return noisier(rng); };
+  int failures = 0, failures_with_reference_noise = 0;
+  for (int t = 0; t < 100; ++t) {
+    const CandidateRenders c = renders(4, w, h, spp, sample);
+    const ImageScore s = score_renders(c, mean, var, 100, {});
+    failures += !s.passed;
+    CHECK(s.own_variance);
+    CHECK(s.noise_ratio == Approx(4.0).epsilon(0.1));
+    failures_with_reference_noise += !score_image(c.images[0], mean, var, 100, {}).passed;
+  }
+  CHECK(failures <= 2);
+  CHECK(failures_with_reference_noise == 100);
+}
+
+// Russian roulette at a low probability: most samples 0, a few large
+// (0 with probability 0.98, 25 with 0.02: mean 0.5, variance 12.25 per
+// sample). Four renders of 16 samples often hold no firefly at a pixel
+// that the reference's mean includes. 100 seeded trials: the pooled
+// variance and the pixel allowance must hold false failures to the same
+// budget as above (at most 2).
+TEST_CASE("Heavy tails (rare fireflies of a correct estimator) pass when judged with the renders' own noise",
+          "[grader]") {
+  const int w = 64, h = 48, spp = 16;
+  const double p = 0.02, big = 25.0, sample_var = p * big * big - 0.25;
+  const ImageBuffer mean = constant(w, h, 0.5f), var = constant(w, h, float(sample_var / spp));
+  std::mt19937_64 rng(184);
+  std::bernoulli_distribution firefly(p);
+  const auto sample = [&] { return firefly(rng) ? big : 0.0; };
+  int failures = 0;
+  for (int t = 0; t < 100; ++t) failures += !score_renders(renders(4, w, h, spp, sample), mean, var, 100, {}).passed;
+  CHECK(failures <= 2);
+}
+
+// A bias of 4 % of the mean under noise four times the reference's: the
+// image mean is about 0.02 / sqrt(1 / (16 * 4 * 9216)) = 15 standard
+// errors off. 20 seeded trials, every one fails.
+TEST_CASE("A biased estimator fails whatever its noise", "[grader]") {
+  const int w = 64, h = 48, spp = 16;
+  const ImageBuffer mean = constant(w, h, 0.5f), var = constant(w, h, 0.25f / spp);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> biased(0.52, 1.0);
+  const auto sample = [&] { return biased(rng); };
+  for (int t = 0; t < 20; ++t) {
+    const ImageScore s = score_renders(renders(4, w, h, spp, sample), mean, var, 100, {});
+    CHECK_FALSE(s.passed);
+    CHECK(s.mean_failed);
+  }
+}
+
+// Renders that share the case's -s (each takes a quarter of it) have four
+// times the variance of one render at the case's settings; `share` scales
+// it back, so the noise ratio of the reference's own estimator is 1.
+TEST_CASE("The noise ratio is per render at the case's settings, whether -s was shared among the renders or not",
+          "[grader]") {
+  const int w = 64, h = 48;
+  const ImageBuffer mean = constant(w, h, 0.5f), var = constant(w, h, 0.25f / 16);
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> same(0.5, 0.5);
+  const auto sample = [&] { return same(rng); };
+  CandidateRenders shared = renders(4, w, h, 4, sample);  // 4 renders of 4 samples: -s 16 shared
+  shared.share = 0.25;
+  CHECK(score_renders(shared, mean, var, 100, {}).noise_ratio == Approx(1.0).epsilon(0.08));
+  const CandidateRenders whole = renders(4, w, h, 16, sample);  // 4 renders of the whole -s 16
+  CHECK(score_renders(whole, mean, var, 100, {}).noise_ratio == Approx(1.0).epsilon(0.08));
+  CHECK(score_image(whole.images[0], mean, var, 100, {}).noise_ratio == -1);  // one render: not measured
+}
+
+// A pixel that all four renders agree on (black, or never lit in those
+// four) has no spread of its own: the neighbours' pooled variance and the
+// floor stand in, so one exact pixel is judged like its neighbours, and a
+// wrong constant pixel still fails.
+TEST_CASE("A pixel without spread in the renders takes its neighbours' pooled variance", "[grader]") {
+  const int w = 16, h = 16, spp = 16;
+  const ImageBuffer mean = constant(w, h, 0.5f), var = constant(w, h, 0.25f / spp);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> same(0.5, 0.5);
+  CandidateRenders c = renders(4, w, h, spp, [&] { return same(rng); });
+  for (ImageBuffer& img : c.images) img.at(8, 8)[0] = 0.55f;  // 0.05: 0.8 of the neighbours' sigma (0.0625)
+  ScoreOptions o;
+  o.block_test = o.mean_test = false;
+  ImageScore s = score_renders(c, mean, var, 100, o);
+  CHECK(s.pixel_z[size_t(16 - 1 - 8) * 16 + 8] < 3.0f);
+  for (ImageBuffer& img : c.images) img.at(8, 8)[0] = 1.5f;  // 16 sigma off
+  s = score_renders(c, mean, var, 100, o);
+  CHECK(s.pixel_z[size_t(16 - 1 - 8) * 16 + 8] > 12.0f);
+}
+
+TEST_CASE("The level for k or more failures bounds C(n, k) p^k by alpha", "[grader]") {
+  CHECK(level_for_at_least(0.01, 1, 1) == Approx(0.01));
+  CHECK(level_for_at_least(0.01, 100, 1) == Approx(1e-4));
+  const double p = level_for_at_least(1e-3, 192, 2);
+  CHECK(192.0 * 191.0 / 2.0 * p * p == Approx(1e-3));
+}

@@ -6,6 +6,7 @@
 #include "grader/src/findings.h"
 #include "grader/src/hints.h"
 #include "grader/src/run_case.h"
+#include "grader/src/rules.h"
 #include "grader/src/signature.h"
 
 using namespace grader;
@@ -195,4 +196,13 @@ TEST_CASE("Project 3-2's cases: their groups, and their parts' TODO lines doom t
   CHECK(todo_dooms(7, 8));
   CHECK_FALSE(todo_dooms(8, 7));
   CHECK_FALSE(todo_dooms(2, 9));  // part 2's stand-in finds the right hits
+
+TEST_CASE("The noise bound grows per bounce only where a case keeps paths of exactly -m bounces", "[grader]") {
+  const Rules rules;
+  CHECK(rules.noise_bound_for(make_case("p3", 3, "CBspheres_lambertian.dae", {"-l", "4"})) == Approx(4.0));
+  CHECK(rules.noise_bound_for(make_case("p4", 4, "CBspheres_lambertian.dae", {"-m", "5"})) == Approx(4.0));
+  CHECK(rules.noise_bound_for(make_case("p4o", 4, "CBspheres_lambertian.dae", {"-m", "2", "-o", "0"})) == Approx(6.0));
+  CHECK(rules.noise_bound_for(make_case("p4o5", 4, "CBspheres_lambertian.dae", {"-m", "5", "-o", "0"})) ==
+        Approx(4.0 * 1.5 * 1.5 * 1.5 * 1.5));
+  CHECK(rules.noise_bound_for(make_case("p4o1", 4, "CBspheres_lambertian.dae", {"-m", "5", "-o", "1"})) == Approx(4.0));
 }

@@ -83,7 +83,7 @@ catalogue_check() {
   while read -r name part rest; do
     [ -z "${listed[$name]:-}" ] || { echo "$list: $name: listed twice"; status=1; }
     listed[$name]=1
-    [[ "$part" =~ ^[1-5]$ ]] || { echo "$list: $name: part '$part' is not 1-5"; status=1; }
+    [[ "$part" =~ ^[1-9]$ ]] || { echo "$list: $name: part '$part' is not 1-9"; status=1; }
     [ -n "$rest" ] || { echo "$list: $name: no description"; status=1; }
     local p="$patches/$name.patch"
     if [ ! -f "$p" ]; then echo "$list: $name: no patch $p"; status=1; continue; fi
@@ -198,7 +198,7 @@ PY
 }
 
 # The parts of a comma-separated list of case names (p3_x -> 3).
-parts_of() { echo "$1" | tr ',' '\n' | sed -nE 's/^p([1-5])_.*/\1/p' | sort -u | tr '\n' ' '; }
+parts_of() { echo "$1" | tr ',' '\n' | sed -nE 's/^p([1-9])_.*/\1/p' | sort -u | tr '\n' ' '; }
 
 # grade BINARY OUT [grader run options...]: every case, reports in OUT;
 # the grader's own output in OUT.log. Never fails (the verdicts are in

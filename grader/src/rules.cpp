@@ -1,6 +1,7 @@
 #include "grader/src/rules.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -44,6 +45,14 @@ Rules make_rules(const std::vector<Case>& all, const std::string& references) {
   r.scored_images = std::max(1, scored);
   r.plain_bvh = read_plain_bvh_costs(references + "/plain_bvh_costs.json");
   return r;
+}
+
+double Rules::noise_bound_for(const Case& c) const {
+  const auto o = std::find(c.options.begin(), c.options.end(), "-o");
+  const bool last_bounce_only = o != c.options.end() && o + 1 != c.options.end() && *(o + 1) == "0";
+  const int bounces = std::min(case_int_option(c, "-m", 1), 16);
+  if (!last_bounce_only || bounces < 2) return noise_bound;
+  return noise_bound * std::pow(noise_growth_per_bounce, bounces - 1);
 }
 
 std::string case_method(const Case& c) {

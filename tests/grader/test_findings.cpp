@@ -3,6 +3,7 @@
 
 #include "grader/src/findings.h"
 #include "grader/src/hints.h"
+#include "grader/src/rules.h"
 #include "grader/src/signature.h"
 
 using namespace grader;
@@ -166,4 +167,14 @@ TEST_CASE("Hints from one case alone: only bugs that fail that case, nearest fir
   CHECK(hints[0].bug == &cat.bugs[0]);  // points into the caller's catalogue
   for (const Hint& h : hints) CHECK(h.bug->name != "hemisphere_pdf");  // passes p4_m2
   CHECK(likely_bugs_for_case("p4_m2", CaseSignature{}, cat, case_groups(kCases)).empty());  // a passing case
+}
+
+TEST_CASE("The noise bound grows per bounce only where a case keeps paths of exactly -m bounces", "[grader]") {
+  const Rules rules;
+  CHECK(rules.noise_bound_for(make_case("p3", 3, "CBspheres_lambertian.dae", {"-l", "4"})) == Approx(4.0));
+  CHECK(rules.noise_bound_for(make_case("p4", 4, "CBspheres_lambertian.dae", {"-m", "5"})) == Approx(4.0));
+  CHECK(rules.noise_bound_for(make_case("p4o", 4, "CBspheres_lambertian.dae", {"-m", "2", "-o", "0"})) == Approx(6.0));
+  CHECK(rules.noise_bound_for(make_case("p4o5", 4, "CBspheres_lambertian.dae", {"-m", "5", "-o", "0"})) ==
+        Approx(4.0 * 1.5 * 1.5 * 1.5 * 1.5));
+  CHECK(rules.noise_bound_for(make_case("p4o1", 4, "CBspheres_lambertian.dae", {"-m", "5", "-o", "1"})) == Approx(4.0));
 }

@@ -196,6 +196,7 @@ TEST_CASE("Project 3-2's cases: their groups, and their parts' TODO lines doom t
   CHECK(todo_dooms(7, 8));
   CHECK_FALSE(todo_dooms(8, 7));
   CHECK_FALSE(todo_dooms(2, 9));  // part 2's stand-in finds the right hits
+}
 
 TEST_CASE("The noise bound grows per bounce only where a case keeps paths of exactly -m bounces", "[grader]") {
   const Rules rules;

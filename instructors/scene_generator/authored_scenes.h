@@ -61,6 +61,54 @@ inline Scene cb_spheres() {
   return s;
 }
 
+// A box of `half` extents about `centre`, turned `yaw_degrees` about +y, as
+// six lone quads (one mesh each), so that the loader's rule for lone quads
+// (their normals reversed) makes each face look out of the box: each is
+// wound with its right-hand normal pointing in.
+inline void add_block(Scene& s, const std::string& name, const std::string& material, V3 centre, V3 half,
+                      double yaw_degrees) {
+  const V3 x{half.x, 0, 0}, y{0, half.y, 0}, z{0, 0, half.z};
+  // Each face: its outward offset n from the centre and two edges t1, t2
+  // with t1 x t2 along n.
+  const struct {
+    const char* tag;
+    V3 n, t1, t2;
+  } faces[] = {{"px", x, y, z}, {"nx", -1.0 * x, z, y}, {"py", y, z, x},
+               {"ny", -1.0 * y, x, z}, {"pz", z, x, y}, {"nz", -1.0 * z, y, x}};
+  for (const auto& f : faces) {
+    const auto at = [&](double a, double b) { return centre + rotate_y(f.n + a * f.t1 + b * f.t2, yaw_degrees); };
+    s.meshes.push_back(quad(name + "_" + f.tag, material, at(-1, -1), at(-1, 1), at(1, 1), at(1, -1),
+                            -1.0 * rotate_y(f.n, yaw_degrees)));
+  }
+}
+
+// Part 6's second glass scene: a glass block (index 1.5) turned 30 degrees
+// on the floor, front left, with a diffuse sphere behind it to the right.
+// Unlike a sphere, a block has total internal reflection: a ray that
+// entered by its top or a side meets another side beyond the critical
+// angle (41.8 degrees), so its faces seen through one another mirror the
+// room.
+inline Scene cb_glass_block() {
+  Scene s;
+  s.file = "CBglass_block.dae";
+  s.purpose = "Cornell box with the CGL area light, a glass block (index 1.5) turned 30 degrees "
+              "(front left) and a diffuse sphere (back right)";
+  add_cornell_box(s);
+  Material glass = diffuse("glass", {0.64, 0.64, 0.64});
+  glass.kind = MaterialKind::Glass;
+  glass.reflectance = {1, 1, 1};
+  glass.transmittance = {1, 1, 1};
+  glass.roughness = 0;
+  glass.ior = 1.5;
+  s.materials.push_back(glass);
+  s.materials.push_back(diffuse("lambertian", {0.8, 0.8, 0.8}));
+  add_cornell_area_light(s);
+  add_block(s, "block", "glass", {-0.3, 0.3, 0.2}, {0.25, 0.3, 0.25}, 30);
+  s.spheres.push_back({"SphereBackRight", "lambertian", {0.4, 0.3, -0.3}, kSphereRadius});
+  s.camera = course_camera(s, {0, 0, 1});
+  return s;
+}
+
 // An analytic test: a 2 x 2 diffuse square (albedo 0.5) in the plane y = 0
 // under a 0.5 x 0.5 area light of radiance 1 centred 1 unit above it, facing
 // down. Only the plane is geometry; the light is not visible to camera rays.

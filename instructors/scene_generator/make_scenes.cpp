@@ -66,6 +66,7 @@ std::vector<Recipe> all_recipes() {
       {"CBempty.dae", {}, authored(cb_empty)},
       {"CBspheres_lambertian.dae", {}, authored(cb_spheres_lambertian)},
       {"CBspheres.dae", {}, authored(cb_spheres)},
+      {"CBglass_block.dae", {}, authored(cb_glass_block)},
       {"plane_arealight.dae", {}, authored(plane_arealight)},
       {"sphere_ambient.dae", {}, authored(sphere_ambient)},
       {"depth_order.dae", {}, authored(depth_order)},

@@ -48,7 +48,8 @@ std::string html_text(const std::string& s) {
 }
 
 void write_page(const std::string& path, const Case& c, const std::string& file, const std::string& png_name,
-                const std::string& verdict, const std::vector<std::string>& lines, const std::vector<std::string>& hints) {
+                const std::string& verdict, const std::vector<std::string>& lines,
+                const std::vector<std::string>& hints) {
   std::string s = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html_text(c.name) +
                   ": your render and the reference</title>\n<style>body{font-family:system-ui,sans-serif;margin:2em;"
                   "color:#222}img{image-rendering:pixelated;max-width:100%;border:1px solid #999}</style></head><body>\n";

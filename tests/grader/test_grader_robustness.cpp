@@ -529,7 +529,8 @@ TEST_CASE("compare: a PFM that differs names the likely cause from the known bug
   const size_t at = differs.out.find(first) + 1;
   const std::string line = differs.out.substr(at, differs.out.find('\n', at) - at);
   CHECK_THAT(line, Contains("every lit image is too bright by about pi (image x3.1)") &&
-                       EndsWith("(bsdf_f in common/bsdf.h; read stages/part3_direct_lighting/README.md (\"Given code\"))"));
+                       EndsWith("(bsdf_f in common/bsdf.h; read stages/part3_direct_lighting/README.md "
+                                "(\"Given code\"))"));
   int hints = 0;
   for (size_t p = 0; (p = differs.out.find("\nLikely cause ", p)) != std::string::npos; ++p) ++hints;
   CHECK(hints <= 3);

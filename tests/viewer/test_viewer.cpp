@@ -467,7 +467,10 @@ TEST_CASE("the difference overlay names the likely causes of a render that diffe
   ImageBuffer times_pi = mean;
   for (Color& c : times_pi.pixels) c = c * 3.14159265f;
 
-  const viewer::Difference bright = viewer::difference_overlay(frame_of(times_pi, 16), vc->opts, *vc, refs, catalogue, groups);
+  const auto compare = [&](const ImageBuffer& img, const grader::Catalogue& cat) {
+    return viewer::difference_overlay(frame_of(img, 16), vc->opts, *vc, refs, cat, groups);
+  };
+  const viewer::Difference bright = compare(times_pi, catalogue);
   CHECK_THAT(bright.verdict, Catch::StartsWith("differs from the reference"));
   const Json j = parse_json(viewer::hints_json(bright), "X-Hints");
   const Json* hints = j.get("hints");
@@ -485,7 +488,7 @@ TEST_CASE("the difference overlay names the likely causes of a render that diffe
   for (const Json& h : hints->array) CHECK(h.str("section").find('`') == std::string::npos);  // words, not Markdown
   CHECK(j.get("note") == nullptr);
 
-  const viewer::Difference same = viewer::difference_overlay(frame_of(mean, 16), vc->opts, *vc, refs, catalogue, groups);
+  const viewer::Difference same = compare(mean, catalogue);
   CHECK_THAT(same.verdict, Catch::StartsWith("matches the reference"));
   CHECK(viewer::hints_json(same) == "{\"hints\":[]}");
 
@@ -493,11 +496,9 @@ TEST_CASE("the difference overlay names the likely causes of a render that diffe
   grader::Catalogue other;
   other.bugs.push_back(catalogue.bugs[0]);
   other.bugs[0].cases = {{"p1_spheres", grader::CaseSignature{true, {{"mean_ratio", 0.9}}}}};
-  const Json none = parse_json(viewer::hints_json(
-      viewer::difference_overlay(frame_of(times_pi, 16), vc->opts, *vc, refs, other, groups)), "X-Hints");
+  const Json none = parse_json(viewer::hints_json(compare(times_pi, other)), "X-Hints");
   CHECK(none.get("hints")->array.empty());
   CHECK(none.str("note") == grader::kNoHintClose);
   // No catalogue: no causes, and no note either.
-  CHECK(viewer::hints_json(viewer::difference_overlay(frame_of(times_pi, 16), vc->opts, *vc, refs, {}, groups)) ==
-        "{\"hints\":[]}");
+  CHECK(viewer::hints_json(compare(times_pi, grader::Catalogue{})) == "{\"hints\":[]}");
 }

@@ -210,21 +210,16 @@ double signature_distance(const BuildSignature& build, const BuildSignature& bug
   return 0.5 * by_case + 0.5 * by_group;
 }
 
-std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
-                              int max_hints, const std::string& exclude) {
-  std::vector<Hint> all;
-  const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
-  if (!fails) return all;
-  for (const KnownBug& bug : catalogue.bugs) {
-    if (bug.name == exclude) continue;
-    all.push_back(Hint{&bug, signature_distance(build, bug.cases, groups), ""});
-  }
+namespace {
+
+// From candidates sorted nearest first: up to max_hints within
+// kHintDistance, and beyond the nearest only bugs nearly as near (a second
+// guess far behind a close first one is noise, not help), one per function.
+std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& build, int max_hints) {
   std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
   std::vector<Hint> out;
   std::set<std::string> functions;
   for (Hint& h : all) {
-    // Beyond the nearest, only bugs nearly as near: a second guess far
-    // behind a close first one is noise, not help.
     if (int(out.size()) >= max_hints || h.distance > kHintDistance) break;
     if (!out.empty() && h.distance > out[0].distance + kHintSpread) break;
     if (!functions.insert(h.bug->function).second) continue;
@@ -236,24 +231,35 @@ std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& cata
   return out;
 }
 
+}  // namespace
+
+std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
+                              int max_hints, const std::string& exclude) {
+  std::vector<Hint> all;
+  const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
+  if (!fails) return all;
+  for (const KnownBug& bug : catalogue.bugs) {
+    if (bug.name == exclude) continue;
+    all.push_back(Hint{&bug, signature_distance(build, bug.cases, groups), ""});
+  }
+  return select_hints(std::move(all), build, max_hints);
+}
+
+// One case: only the bugs that fail it are candidates, and the distance is
+// the case's own (the whole-run distance would halve it: with one failing
+// case, every candidate matches the pattern of failing cases exactly).
 std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseSignature& figures,
                                        const Catalogue& catalogue, const CaseGroups& groups, int max_hints) {
+  (void)groups;
   if (!figures.failed) return {};
-  Catalogue one;
+  const BuildSignature build = {{case_name, figures}};
+  std::vector<Hint> all;
   for (const KnownBug& bug : catalogue.bugs) {
     const auto it = bug.cases.find(case_name);
     if (it == bug.cases.end() || !it->second.failed) continue;
-    KnownBug b = bug;
-    b.cases = {{case_name, it->second}};
-    one.bugs.push_back(std::move(b));
+    all.push_back(Hint{&bug, case_distance(&figures, &it->second), ""});
   }
-  const BuildSignature build = {{case_name, figures}};
-  std::vector<Hint> hints = likely_bugs(build, one, groups, max_hints);
-  // The texts point into `one`: re-point them at the caller's catalogue.
-  for (Hint& h : hints)
-    for (const KnownBug& bug : catalogue.bugs)
-      if (bug.name == h.bug->name) h.bug = &bug;
-  return hints;
+  return select_hints(std::move(all), build, max_hints);
 }
 
 const char* const kNoHintClose =

@@ -144,6 +144,10 @@ BuildSignature build_signature(const std::vector<CaseResult>& results) {
   BuildSignature b;
   for (const CaseResult& r : results) {
     CaseSignature c;
+    // A case stopped at a TODO line is a part not written yet, not a bug:
+    // it counts as neither failing nor passing.
+    const auto todo = r.signature.find("failure_todo");
+    if (todo != r.signature.end() && todo->second > 0) continue;
     c.failed = r.verdict != Verdict::Passed || r.score < r.max_score;
     c.figures = r.signature;
     b[r.c.name] = c;

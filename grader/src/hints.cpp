@@ -96,8 +96,8 @@ std::string fill(const BuildSignature& build, const KnownBug& bug) {
 }
 
 std::string section_of(const std::string& readme) {
-  const size_t hash = readme.find('#');
-  return hash == std::string::npos ? readme : readme.substr(0, hash) + " (\"" + readme.substr(hash + 1) + "\")";
+  const auto [file, section] = readme_section(readme);
+  return section.empty() ? file : file + " (\"" + section + "\")";
 }
 
 BuildSignature cases_from_json(const Json& j, const std::string& where) {
@@ -145,6 +145,10 @@ BuildSignature build_signature(const std::vector<CaseResult>& results) {
   BuildSignature b;
   for (const CaseResult& r : results) {
     CaseSignature c;
+    // A case stopped at a TODO line is a part not written yet, not a bug:
+    // it counts as neither failing nor passing.
+    const auto todo = r.signature.find("failure_todo");
+    if (todo != r.signature.end() && todo->second > 0) continue;
     c.failed = r.verdict != Verdict::Passed || r.score < r.max_score;
     c.figures = r.signature;
     b[r.c.name] = c;
@@ -218,6 +222,29 @@ double signature_distance(const BuildSignature& build, const BuildSignature& bug
   return 0.5 * by_case + 0.5 * by_group;
 }
 
+namespace {
+
+// From candidates sorted nearest first: up to max_hints within
+// kHintDistance, and beyond the nearest only bugs nearly as near (a second
+// guess far behind a close first one is noise, not help), one per function.
+std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& build, int max_hints) {
+  std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
+  std::vector<Hint> out;
+  std::set<std::string> functions;
+  for (Hint& h : all) {
+    if (int(out.size()) >= max_hints || h.distance > kHintDistance) break;
+    if (!out.empty() && h.distance > out[0].distance + kHintSpread) break;
+    if (!functions.insert(h.bug->function).second) continue;
+    h.words = fill(build, *h.bug);
+    h.text = h.words + " (" + h.bug->function + " in " + h.bug->file + "; read " +
+             section_of(h.bug->readme) + ")";
+    out.push_back(h);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
                               int max_hints, const std::string& exclude) {
   std::vector<Hint> all;
@@ -227,40 +254,37 @@ std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& cata
     if (bug.name == exclude) continue;
     all.push_back(Hint{&bug, signature_distance(build, bug.cases, groups), ""});
   }
-  std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
-  std::vector<Hint> out;
-  std::set<std::string> functions;
-  for (Hint& h : all) {
-    // Beyond the nearest, only bugs nearly as near: a second guess far
-    // behind a close first one is noise, not help.
-    if (int(out.size()) >= max_hints || h.distance > kHintDistance) break;
-    if (!out.empty() && h.distance > out[0].distance + kHintSpread) break;
-    if (!functions.insert(h.bug->function).second) continue;
-    h.text = fill(build, *h.bug) + " (" + h.bug->function + " in " + h.bug->file + "; read " +
-             section_of(h.bug->readme) + ")";
-    out.push_back(h);
-  }
-  return out;
+  return select_hints(std::move(all), build, max_hints);
 }
 
+// One case: only the bugs that fail it are candidates, and the distance is
+// the case's own (the whole-run distance would halve it: with one failing
+// case, every candidate matches the pattern of failing cases exactly).
 std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseSignature& figures,
                                        const Catalogue& catalogue, const CaseGroups& groups, int max_hints) {
+  (void)groups;
   if (!figures.failed) return {};
-  Catalogue one;
+  const BuildSignature build = {{case_name, figures}};
+  std::vector<Hint> all;
   for (const KnownBug& bug : catalogue.bugs) {
     const auto it = bug.cases.find(case_name);
     if (it == bug.cases.end() || !it->second.failed) continue;
-    KnownBug b = bug;
-    b.cases = {{case_name, it->second}};
-    one.bugs.push_back(std::move(b));
+    all.push_back(Hint{&bug, case_distance(&figures, &it->second), ""});
   }
-  const BuildSignature build = {{case_name, figures}};
-  std::vector<Hint> hints = likely_bugs(build, one, groups, max_hints);
-  // The texts point into `one`: re-point them at the caller's catalogue.
-  for (Hint& h : hints)
-    for (const KnownBug& bug : catalogue.bugs)
-      if (bug.name == h.bug->name) h.bug = &bug;
-  return hints;
+  return select_hints(std::move(all), build, max_hints);
+}
+
+const char* const kNoHintClose =
+    "Likely cause: no known bug's signature is close to this one; the grader's own messages and figures are what "
+    "there is to go on";
+
+std::vector<std::string> hint_lines(const std::vector<Hint>& hints) {
+  if (hints.empty()) return {kNoHintClose};
+  std::vector<std::string> lines;
+  for (size_t i = 0; i < hints.size(); ++i)
+    lines.push_back("Likely cause " + std::to_string(i + 1) + " of " + std::to_string(hints.size()) + ": " +
+                    hints[i].text);
+  return lines;
 }
 
 std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
@@ -268,15 +292,13 @@ std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, cons
   const BuildSignature build = build_signature(results);
   const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
   if (!fails || catalogue.bugs.empty()) return {};
-  const std::vector<Hint> hints = likely_bugs(build, catalogue, groups);
-  if (hints.empty())
-    return {"Likely cause: no known bug's signature is close to this build's; the failed cases' messages are "
-            "what there is to go on"};
-  std::vector<std::string> lines;
-  for (size_t i = 0; i < hints.size(); ++i)
-    lines.push_back("Likely cause " + std::to_string(i + 1) + " of " + std::to_string(hints.size()) + ": " +
-                    hints[i].text);
-  return lines;
+  return hint_lines(likely_bugs(build, catalogue, groups));
+}
+
+std::pair<std::string, std::string> readme_section(const std::string& readme) {
+  const size_t hash = readme.find('#');
+  if (hash == std::string::npos) return {readme, ""};
+  return {readme.substr(0, hash), readme.substr(hash + 1)};
 }
 
 std::string leave_one_out_table(const Catalogue& catalogue, const CaseGroups& groups, double* function_rate,

@@ -144,6 +144,27 @@ TEST_CASE("Hints: none for a build that fails nothing, and a plain 'nothing clos
   CHECK_THAT(lines[0], Catch::StartsWith("Likely cause: no known bug's signature is close"));
 }
 
+// A kit with parts 1-5 solved (or a build that has not started part 4):
+// the cases it fails stop at a TODO line. An unwritten part is not a bug,
+// and a hint would send the student to working code.
+TEST_CASE("Hints: none for cases that stopped at a TODO line, while the other failures still get theirs", "[grader]") {
+  const Catalogue cat = catalogue();
+  std::vector<CaseResult> rs(2);
+  rs[0].c = kCases[0];
+  rs[1].c = kCases[1];
+  for (CaseResult& r : rs) {
+    r.verdict = Verdict::Failed;
+    r.score = 0;
+    r.max_score = 1;
+    r.signature = {{"failed_image", 1}, {"failure_todo", 1}};
+  }
+  CHECK(hint_lines(rs, cat, case_groups(kCases)).empty());
+  CHECK(build_signature(rs).empty());
+  rs[1].signature = {{"failure_crash", 1}};  // a real failure beside the TODO
+  CHECK(build_signature(rs).size() == 1);
+  CHECK(hint_lines(rs, cat, case_groups(kCases)).size() == 1);
+}
+
 TEST_CASE("Hints: leave-one-out names the right function when another bug of it is near", "[grader]") {
   Catalogue cat = catalogue();
   // A second hemisphere bug like the first: leaving either out, the other names the function.

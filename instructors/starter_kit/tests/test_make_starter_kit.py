@@ -8,13 +8,216 @@ Each CHECK writes its trees into a temporary folder, copies the generator
 into them, runs it, and exits 0 when the generator did what the check
 names, 1 (with the reason) when not.
 """
+import importlib.util
 import os
+import re
+import shutil
+import subprocess
 import sys
 import tempfile
+import textwrap
 
-import kit_test_support as support
-from kit_test_support import (Failure, base_tree, copy_stages, dedent, expect, expect_failure, expect_success,
-                              generate, line_of, load_generator, read, region_around, student_cpp, unlisted_variants)
+SOURCE = None  # the repository under test (argv[2])
+GENERATOR_DIR = os.path.join("instructors", "starter_kit")
+
+
+class Failure(Exception):
+    pass
+
+
+def scaled_seconds(seconds):
+    """`seconds` times PT_TEST_TIMEOUT_SCALE (tests/timeout_scale/timeout_scale.py)."""
+    sys.path.insert(0, os.path.join(SOURCE, "tests", "timeout_scale"))
+    import timeout_scale
+    return timeout_scale.scaled_seconds(seconds)
+
+
+def expect(condition, message):
+    if not condition:
+        raise Failure(message)
+
+
+def dedent(text):
+    return textwrap.dedent(text).lstrip("\n")
+
+
+def readme(part_title, rows):
+    """A stage README with a Given code table of (file, given) rows."""
+    table = "".join(f"| `{f}` | {g} | |\n" for f, g in rows)
+    return (f"# {part_title}\n\nWhat it teaches.\n\n## Given code\n\n| file | given | what it is |\n"
+            f"|---|---|---|\n{table}\n## How to check your work\n\nRun the tests.\n")
+
+
+def student_cpp(name="solve", header="work.h"):
+    return dedent(f"""
+        #include "{header}"
+        #include "todo.h"
+
+        namespace pt {{
+
+        int {name}(int x) {{
+          const int scale = 2;
+          // BEGIN SOLUTION
+          // STUB: PT_TODO(1);
+          // STUB: return 0;
+          const int doubled_and_offset_value = x * scale + 1;
+          return doubled_and_offset_value;
+          // END SOLUTION
+        }}
+
+        }}  // namespace pt
+        """)
+
+
+def base_tree(extra=None, given_rows=(("work.h", "whole file"),)):
+    """A minimal tree: one stage with a header, a student function and a
+    README listing what is given."""
+    files = {
+        "stages/part1_demo/work.h": dedent("""
+            #pragma once
+            namespace pt {
+            struct Options {
+              int scale = 2;
+              int twice() const { return 2 * scale; }
+            };
+            int solve(int x);
+            }  // namespace pt
+            """),
+        "stages/part1_demo/work.cpp": student_cpp(),
+        "stages/part1_demo/README.md": readme("Part 1: demo", given_rows),
+    }
+    files.update(extra or {})
+    return files
+
+
+class Run:
+    def __init__(self, code, out, err, dest):
+        self.code, self.out, self.err, self.dest = code, out, err, dest
+
+
+def generate(files, tmp, modes=None):
+    """Writes `files` as a tree in tmp/tree with the generator, runs it to
+    tmp/kit and returns the Run."""
+    tree = os.path.join(tmp, "tree")
+    shutil.rmtree(tree, ignore_errors=True)
+    for rel, text in files.items():
+        path = os.path.join(tree, rel)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
+        if modes and rel in modes:
+            os.chmod(path, modes[rel])
+    os.makedirs(os.path.join(tree, GENERATOR_DIR), exist_ok=True)
+    shutil.copy2(os.path.join(SOURCE, GENERATOR_DIR, "make_starter_kit.py"), os.path.join(tree, GENERATOR_DIR))
+    # and the modules it runs, beside it
+    shutil.copytree(os.path.join(SOURCE, GENERATOR_DIR, "kitgen"), os.path.join(tree, GENERATOR_DIR, "kitgen"),
+                    ignore=shutil.ignore_patterns("__pycache__"))
+    dest = os.path.join(tmp, "kit")
+    shutil.rmtree(dest, ignore_errors=True)
+    p = subprocess.run([sys.executable, os.path.join(tree, GENERATOR_DIR, "make_starter_kit.py"), dest],
+                       capture_output=True, text=True, timeout=scaled_seconds(60))
+    return Run(p.returncode, p.stdout, p.stderr, dest)
+
+
+def expect_failure(run, *needles, what):
+    expect(run.code == 1, f"{what}: the generator exited {run.code}, expected 1 (stderr: {run.err.strip()})")
+    lines = run.err.strip().split("\n")
+    expect(len(lines) == 1, f"{what}: expected one line on stderr, got: {run.err!r}")
+    for n in needles:
+        expect(n in lines[0], f"{what}: the message does not name {n!r}: {lines[0]}")
+    expect(not os.path.exists(run.dest), f"{what}: the generator wrote {run.dest} although it failed")
+
+
+def expect_success(run, what):
+    expect(run.code == 0, f"{what}: the generator failed ({run.code}): {run.err.strip()}")
+
+
+def line_of(text, needle):
+    for number, line in enumerate(text.split("\n"), 1):
+        if needle in line:
+            return number
+    raise Failure(f"test set-up: {needle!r} not in the text")
+
+
+def read(run, rel):
+    with open(os.path.join(run.dest, rel), encoding="utf-8") as f:
+        return f.read()
+
+
+# ------------------------------------------------------------------ checks
+
+# Each variant: (what, file, text, the definition's first line, its name).
+def unlisted_variants():
+    header_inline = dedent("""
+        #pragma once
+        namespace pt {
+        // A helper that no README lists.
+        inline float lerp(float a, float b, float t) {
+          return a + (b - a) * t;
+        }
+        }  // namespace pt
+        """)
+    anonymous_struct = student_cpp() + dedent("""
+        namespace pt {
+        namespace {
+        struct PrimBox {
+          float lo, hi;
+          float centre() const { return 0.5f * (lo + hi); }
+        };
+        }  // namespace
+        }  // namespace pt
+        """)
+    constant = student_cpp() + dedent("""
+        namespace pt {
+        constexpr int kSecretBins = 12;
+        }  // namespace pt
+        """)
+    lambda_var = student_cpp() + dedent("""
+        namespace pt {
+        namespace {
+        const auto halve = [](int x) {
+          return x / 2;
+        };
+        }  // namespace
+        }  // namespace pt
+        """)
+    after_student_function = student_cpp() + dedent("""
+        namespace pt {
+        int helper_after(int x) { return x + 1; }
+        }  // namespace pt
+        """)
+    in_if_block = student_cpp() + dedent("""
+        namespace pt {
+        #if defined(__SSE2__)
+        int fast_path(int x) { return x; }
+        #else
+        int fast_path(int x) { return x + 0; }
+        #endif
+        }  // namespace pt
+        """)
+    template_class = student_cpp() + dedent("""
+        namespace pt {
+        template <class T, int N = 4>
+        class SmallStack {
+         public:
+          void push(T v) { items_[size_++] = v; }
+         private:
+          T items_[N];
+          int size_ = 0;
+        };
+        }  // namespace pt
+        """)
+    return [
+        ("inline function in a header", "stages/part1_demo/extra.h", header_inline, "inline float lerp", "lerp"),
+        ("struct with member functions in an anonymous namespace", "stages/part1_demo/work.cpp", anonymous_struct,
+         "struct PrimBox", "PrimBox"),
+        ("constexpr constant", "stages/part1_demo/work.cpp", constant, "kSecretBins", "kSecretBins"),
+        ("variable holding a lambda", "stages/part1_demo/work.cpp", lambda_var, "const auto halve", "halve"),
+        ("function after the student's function", "stages/part1_demo/work.cpp", after_student_function,
+         "int helper_after", "helper_after"),
+        ("function in an #if block", "stages/part1_demo/work.cpp", in_if_block, "int fast_path", "fast_path"),
+        ("class template", "stages/part1_demo/work.cpp", template_class, "template <class T", "SmallStack"),
+    ]
 
 
 def check_unlisted_code_outside_markers_fails(tmp):
@@ -102,6 +305,14 @@ def check_untrue_given_list_fails(tmp):
         expect_failure(run, *needles, what=what)
 
 
+def load_generator():
+    spec = importlib.util.spec_from_file_location("make_starter_kit",
+                                                  os.path.join(SOURCE, GENERATOR_DIR, "make_starter_kit.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def check_scanner_finds_every_namespace_level_definition(tmp):
     """The brace-matching scanner on code written to mislead it: braces in
     comments, strings, raw strings and character literals, digit
@@ -173,6 +384,25 @@ def check_scanner_finds_every_namespace_level_definition(tmp):
         expect("broken.cpp" in str(e), f"the unbalanced-brace error does not name the file: {e}")
     else:
         raise Failure("a file with an unclosed brace was accepted")
+
+
+def copy_stages(tmp):
+    """This tree's stages/, as a dict of files."""
+    files = {}
+    root = os.path.join(SOURCE, "stages")
+    for dirpath, _, names in os.walk(root):
+        for n in names:
+            path = os.path.join(dirpath, n)
+            with open(path, encoding="utf-8") as f:
+                files[os.path.relpath(path, SOURCE)] = f.read()
+    return files
+
+
+def region_around(lines, index):
+    """(BEGIN index, END index) of the solution region holding lines[index]."""
+    b = max(k for k in range(index) if "// BEGIN SOLUTION" in lines[k])
+    e = min(k for k in range(index, len(lines)) if "// END SOLUTION" in lines[k])
+    return b, e
 
 
 def check_this_tree_passes_and_would_catch_builder_and_nearest_lane(tmp):
@@ -456,11 +686,12 @@ def check_todo_part_must_match_its_folder(tmp):
 
 
 def main():
+    global SOURCE
     checks = {name[len("check_"):]: f for name, f in globals().items() if name.startswith("check_")}
     if len(sys.argv) != 3 or sys.argv[1] not in checks:
         print(__doc__.strip() + "\n\nChecks: " + ", ".join(sorted(checks)), file=sys.stderr)
         return 2
-    support.SOURCE = os.path.abspath(sys.argv[2])
+    SOURCE = os.path.abspath(sys.argv[2])
     with tempfile.TemporaryDirectory(prefix="kit-generator-") as tmp:
         try:
             checks[sys.argv[1]](tmp)

@@ -6,5 +6,6 @@
     scanner   the namespace-level definitions of a C++ file
     given     the parts' "## Given code" tables and the check against them
     checks    references to left-out files, links, leaks, TODO parts
+    solved    parts given solved (--solved-parts): their files, the notes
     tree      the files of the kit, built and checked in memory
 """

@@ -63,9 +63,10 @@ stderr naming the file and line, exit status 1, DEST left untouched):
     solution region, and a listed name that is solution code are errors
     too, so the list stays true;
   - leaks: no solution line (of a region or of a reference-only file)
-    appears in the kit (an overlay file quoting one, say); lines that also
-    occur outside solution regions of the reference or in stubs, and short
-    lines such as "}", "return L;" or "return false;", are not evidence;
+    appears in the kit (an overlay file or a document quoting one, say);
+    lines that also occur in C++ code outside solution regions or in stubs,
+    and short lines such as "}", "return L;" or "return false;", are not
+    evidence;
   - links: every relative link of the kit's Markdown files points to a file
     or folder of the kit;
   - TODO lines: a PT_TODO(N) or PT_TODO_AS(N, ...) in stages/partK_*/ has

@@ -96,7 +96,10 @@ def make_kit(root, solved=frozenset()):
             out, solution = lines, []
         kit[rel], origin[rel] = out, src
         solution_lines.update(l.strip() for l in solution)
-        outside_lines.update(l.strip() for l in out)
+        if is_source(rel):
+            # Code outside the regions; a document quoting a solution line
+            # does not make it given (it leaks it).
+            outside_lines.update(l.strip() for l in out)
 
     check_given_code(root, stage_sources)
     check_left_out_references(kit, left_out)

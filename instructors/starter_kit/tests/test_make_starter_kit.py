@@ -410,7 +410,8 @@ def check_broken_markdown_link_fails(tmp):
 
 def check_overlay_quoting_solution_line_fails(tmp):
     """An overlay file that quotes a solution line, of a region or of a
-    reference-only file, leaks it: the generator refuses."""
+    reference-only file, leaks it, and so does a document of the tree: the
+    generator refuses."""
     overlay = {"instructors/starter_kit/overlay/README.md": "# Kit\n\n    const int doubled_and_offset_value = x * scale + 1;\n",
                "instructors/starter_kit/overlay/grader_README.md": "# Grader\n", "instructors/starter_kit/overlay/run.sh": "#!/bin/sh\n",
                "instructors/starter_kit/overlay/stages_README.md": "# Stages\n"}
@@ -420,6 +421,10 @@ def check_overlay_quoting_solution_line_fails(tmp):
     overlay["instructors/starter_kit/overlay/README.md"] = "# Kit\n\n    inline int fast_solve_with_vector_units(int x) { return x * 2 + 1; }\n"
     run = generate(base_tree(dict(overlay, **{"stages/part1_demo/fast_path.h": FAST_PATH})), tmp)
     expect_failure(run, "README.md:3:", "solution line leaked", what="an overlay quoting a reference-only file")
+    # A document of the reference copied into the kit leaks the line as well.
+    notes = "# Notes\n\n    const int doubled_and_offset_value = x * scale + 1;\n"
+    run = generate(base_tree({"stages/part1_demo/notes.md": notes}), tmp)
+    expect_failure(run, "stages/part1_demo/notes.md:3:", "solution line leaked", what="a document quoting a solution line")
 
 
 def check_emptied_helper_namespace_gets_a_hint(tmp):

@@ -20,8 +20,10 @@ Left out of the kit:
     tests, Gradescope packaging, batch grading, mutants, benchmarks, the
     scene generator, fuzzers: instructors/README.md), and CI (.ci/);
   - reference-only sources: a C++ file whose first line starts with
-    "// REFERENCE ONLY" (e.g. the reference's SSE pair slab test). No file of
-    the kit may #include one, and no CMake file of the kit may name one;
+    "// REFERENCE ONLY" (e.g. the reference's SSE pair slab test), unless
+    its part is given solved (--solved-parts, below). No file of the kit
+    may #include one it leaves out, and no CMake file of the kit may name
+    one;
   - reference-only documents: a Markdown file whose first line starts with
     "<!-- REFERENCE ONLY" (docs/benchmarks.md, about the reference's fast
     BVH). No Markdown file of the kit may link to one.

@@ -1,5 +1,5 @@
-"""Solution regions: stripped to their STUB lines, and a hint where stripping
-empties a helper namespace.
+"""Solution regions: stripped to their STUB lines (or kept, for a part given
+solved), and a hint where stripping empties a helper namespace.
 """
 import re
 

@@ -1,5 +1,5 @@
 // REFERENCE ONLY: the starter kit leaves this file out (the reference's fast
-// path, not code given to students).
+// path, not code students write) unless it gives part 2 solved.
 // Part 2 (speed): the binned SAH's two passes over a node's primitives with
 // SSE. A primitive's box is two 16-byte rows (lo and hi, each followed by 4
 // bytes of something else, as in bvh_build.cpp's PrimInfo), so one register

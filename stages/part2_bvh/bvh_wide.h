@@ -1,5 +1,5 @@
 // REFERENCE ONLY: the starter kit leaves this file out (the reference's fast
-// path, not code given to students).
+// path, not code students write) unless it gives part 2 solved.
 // Part 2 (speed): the reference traces an 8-wide BVH collapsed from the binary
 // SAH tree, with triangles stored four to a packet and tested in one pass.
 //

@@ -1,5 +1,5 @@
-"""Solution regions: stripped to their STUB lines, and a hint where stripping
-empties a helper namespace.
+"""Solution regions: stripped to their STUB lines (or kept, for a part given
+solved), and a hint where stripping empties a helper namespace.
 """
 import re
 
@@ -11,9 +11,11 @@ END = re.compile(r"^\s*// END SOLUTION\s*$")
 STUB = re.compile(r"^\s*// STUB: ?(.*)$")
 
 
-def strip_regions(path, lines):
+def strip_regions(path, lines, keep=False):
     """Returns (kit lines, solution lines, regions) for one file; regions
-    are (BEGIN line, END line) pairs, 1-based and inclusive."""
+    are (BEGIN line, END line) pairs, 1-based and inclusive. With keep (a
+    part given solved) the kit lines hold each region's solution instead of
+    its stubs, and no line counts as solution."""
     out, solution, regions = [], [], []
     inside, indent, begin_line, stubs = False, "", 0, []
     # A region without stubs between two blank lines would leave two blank
@@ -33,15 +35,18 @@ def strip_regions(path, lines):
         if END.match(line):
             if not inside:
                 raise KitError(f"{path}:{number}: END SOLUTION without BEGIN SOLUTION")
-            out.extend(indent + s + "\n" for s in stubs)
+            if not keep:
+                out.extend(indent + s + "\n" for s in stubs)
             regions.append((begin_line, number))
             inside = False
-            drop_blank = not stubs and bool(out) and not out[-1].strip()
+            drop_blank = not keep and not stubs and bool(out) and not out[-1].strip()
             continue
         if inside:
             s = STUB.match(line)
             if s:
                 stubs.append(s.group(1))
+            elif keep:
+                out.append(line)
             else:
                 solution.append(line)
             continue

@@ -8,6 +8,7 @@ from kitgen.base import SOURCE_EXTENSIONS, KitError
 from kitgen.checks import check_leaks, check_left_out_references, check_links, check_todo_parts
 from kitgen.given import check_given_code
 from kitgen.markers import mark_empty_helper_namespaces, strip_regions
+from kitgen.solved import add_note, check_solved_parts, notes, part_of
 
 
 REFERENCE_ONLY = "// REFERENCE ONLY"
@@ -55,10 +56,14 @@ def is_source(path):
     return path.endswith(SOURCE_EXTENSIONS)
 
 
-def make_kit(root):
-    """{kit path: lines, or None to copy the file as is} and {kit path:
-    source path}, after every check."""
+def make_kit(root, solved=frozenset()):
+    """{kit path: lines, or None to copy the file as is}, {kit path: source
+    path}, the reference-only files left out and the number of regions
+    stubbed, after every check. The stage folders of the `solved` parts keep
+    their solution regions (without the markers) and their reference-only
+    files: the solution needs them."""
     files = listed_files(root)
+    stubbed_parts = check_solved_parts(solved, files) if solved else []
     kit, origin = {}, {}
     solution_lines, outside_lines = set(), set()
     stage_sources, left_out, regions_stubbed = {}, [], 0
@@ -71,7 +76,9 @@ def make_kit(root):
             continue
         with open(src, encoding="utf-8") as f:
             lines = f.readlines()
-        if is_source(rel) and lines and lines[0].startswith(REFERENCE_ONLY):
+        keep = part_of(rel) in solved
+        reference_only = is_source(rel) and lines and lines[0].startswith(REFERENCE_ONLY)
+        if reference_only and not keep:
             left_out.append(rel)
             solution_lines.update(l.strip() for l in lines)
             continue
@@ -79,17 +86,20 @@ def make_kit(root):
             continue  # check_links stops any kit document that links to it
         if is_source(rel):
             check_todo_parts(rel, lines)
-            out, solution, regions = strip_regions(rel, lines)
-            if regions:
+            out, solution, regions = strip_regions(rel, lines, keep=keep)
+            if regions and not keep:
                 out = mark_empty_helper_namespaces(out)
-            regions_stubbed += len(regions)
-            if rel.startswith("stages/"):
+                regions_stubbed += len(regions)
+            if rel.startswith("stages/") and not reference_only:
                 stage_sources[rel] = ("".join(lines), regions)
         else:
             out, solution = lines, []
         kit[rel], origin[rel] = out, src
         solution_lines.update(l.strip() for l in solution)
-        outside_lines.update(l.strip() for l in out)
+        if is_source(rel):
+            # Code outside the regions; a document quoting a solution line
+            # does not make it given (it leaks it).
+            outside_lines.update(l.strip() for l in out)
 
     check_given_code(root, stage_sources)
     check_left_out_references(kit, left_out)
@@ -106,6 +116,12 @@ def make_kit(root):
             with open(src, encoding="utf-8") as f:
                 kit[target], origin[target] = f.readlines(), src
 
+    if solved:
+        say = notes(solved, stubbed_parts)
+        for rel in sorted(kit):
+            if rel in ("README.md", "stages/README.md") or (part_of(rel) in solved and rel.count("/") == 2
+                                                            and rel.endswith("/README.md")):
+                kit[rel] = add_note(kit[rel], say.get(rel, say["stage"]))
     check_leaks(kit, solution_lines, outside_lines)
     check_links(kit)
     return kit, origin, left_out, regions_stubbed

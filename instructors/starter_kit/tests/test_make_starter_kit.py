@@ -8,140 +8,13 @@ Each CHECK writes its trees into a temporary folder, copies the generator
 into them, runs it, and exits 0 when the generator did what the check
 names, 1 (with the reason) when not.
 """
-import importlib.util
 import os
-import re
-import shutil
-import subprocess
 import sys
-import tempfile
-import textwrap
 
-SOURCE = None  # the repository under test (argv[2])
-GENERATOR_DIR = os.path.join("instructors", "starter_kit")
-
-
-class Failure(Exception):
-    pass
-
-
-def scaled_seconds(seconds):
-    """`seconds` times PT_TEST_TIMEOUT_SCALE (tests/timeout_scale/timeout_scale.py)."""
-    sys.path.insert(0, os.path.join(SOURCE, "tests", "timeout_scale"))
-    import timeout_scale
-    return timeout_scale.scaled_seconds(seconds)
-
-
-def expect(condition, message):
-    if not condition:
-        raise Failure(message)
-
-
-def dedent(text):
-    return textwrap.dedent(text).lstrip("\n")
-
-
-def readme(part_title, rows):
-    """A stage README with a Given code table of (file, given) rows."""
-    table = "".join(f"| `{f}` | {g} | |\n" for f, g in rows)
-    return (f"# {part_title}\n\nWhat it teaches.\n\n## Given code\n\n| file | given | what it is |\n"
-            f"|---|---|---|\n{table}\n## How to check your work\n\nRun the tests.\n")
-
-
-def student_cpp(name="solve", header="work.h"):
-    return dedent(f"""
-        #include "{header}"
-        #include "todo.h"
-
-        namespace pt {{
-
-        int {name}(int x) {{
-          const int scale = 2;
-          // BEGIN SOLUTION
-          // STUB: PT_TODO(1);
-          // STUB: return 0;
-          const int doubled_and_offset_value = x * scale + 1;
-          return doubled_and_offset_value;
-          // END SOLUTION
-        }}
-
-        }}  // namespace pt
-        """)
-
-
-def base_tree(extra=None, given_rows=(("work.h", "whole file"),)):
-    """A minimal tree: one stage with a header, a student function and a
-    README listing what is given."""
-    files = {
-        "stages/part1_demo/work.h": dedent("""
-            #pragma once
-            namespace pt {
-            struct Options {
-              int scale = 2;
-              int twice() const { return 2 * scale; }
-            };
-            int solve(int x);
-            }  // namespace pt
-            """),
-        "stages/part1_demo/work.cpp": student_cpp(),
-        "stages/part1_demo/README.md": readme("Part 1: demo", given_rows),
-    }
-    files.update(extra or {})
-    return files
-
-
-class Run:
-    def __init__(self, code, out, err, dest):
-        self.code, self.out, self.err, self.dest = code, out, err, dest
-
-
-def generate(files, tmp, modes=None):
-    """Writes `files` as a tree in tmp/tree with the generator, runs it to
-    tmp/kit and returns the Run."""
-    tree = os.path.join(tmp, "tree")
-    shutil.rmtree(tree, ignore_errors=True)
-    for rel, text in files.items():
-        path = os.path.join(tree, rel)
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(text)
-        if modes and rel in modes:
-            os.chmod(path, modes[rel])
-    os.makedirs(os.path.join(tree, GENERATOR_DIR), exist_ok=True)
-    shutil.copy2(os.path.join(SOURCE, GENERATOR_DIR, "make_starter_kit.py"), os.path.join(tree, GENERATOR_DIR))
-    # and the modules it runs, beside it
-    shutil.copytree(os.path.join(SOURCE, GENERATOR_DIR, "kitgen"), os.path.join(tree, GENERATOR_DIR, "kitgen"),
-                    ignore=shutil.ignore_patterns("__pycache__"))
-    dest = os.path.join(tmp, "kit")
-    shutil.rmtree(dest, ignore_errors=True)
-    p = subprocess.run([sys.executable, os.path.join(tree, GENERATOR_DIR, "make_starter_kit.py"), dest],
-                       capture_output=True, text=True, timeout=scaled_seconds(60))
-    return Run(p.returncode, p.stdout, p.stderr, dest)
-
-
-def expect_failure(run, *needles, what):
-    expect(run.code == 1, f"{what}: the generator exited {run.code}, expected 1 (stderr: {run.err.strip()})")
-    lines = run.err.strip().split("\n")
-    expect(len(lines) == 1, f"{what}: expected one line on stderr, got: {run.err!r}")
-    for n in needles:
-        expect(n in lines[0], f"{what}: the message does not name {n!r}: {lines[0]}")
-    expect(not os.path.exists(run.dest), f"{what}: the generator wrote {run.dest} although it failed")
-
-
-def expect_success(run, what):
-    expect(run.code == 0, f"{what}: the generator failed ({run.code}): {run.err.strip()}")
-
-
-def line_of(text, needle):
-    for number, line in enumerate(text.split("\n"), 1):
-        if needle in line:
-            return number
-    raise Failure(f"test set-up: {needle!r} not in the text")
-
-
-def read(run, rel):
-    with open(os.path.join(run.dest, rel), encoding="utf-8") as f:
-        return f.read()
+sys.dont_write_bytecode = True  # the shared module beside this file leaves no compiled files in the tree
+from kit_test_support import (FAST_PATH, Failure, base_tree, copy_stages, dedent, expect, expect_failure,
+                              expect_success, generate, line_of, load_generator, read, region_around, run_checks,
+                              student_cpp)
 
 
 # ------------------------------------------------------------------ checks
@@ -305,13 +178,6 @@ def check_untrue_given_list_fails(tmp):
         expect_failure(run, *needles, what=what)
 
 
-def load_generator():
-    spec = importlib.util.spec_from_file_location("make_starter_kit",
-                                                  os.path.join(SOURCE, GENERATOR_DIR, "make_starter_kit.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
 
 def check_scanner_finds_every_namespace_level_definition(tmp):
     """The brace-matching scanner on code written to mislead it: braces in
@@ -386,24 +252,6 @@ def check_scanner_finds_every_namespace_level_definition(tmp):
         raise Failure("a file with an unclosed brace was accepted")
 
 
-def copy_stages(tmp):
-    """This tree's stages/, as a dict of files."""
-    files = {}
-    root = os.path.join(SOURCE, "stages")
-    for dirpath, _, names in os.walk(root):
-        for n in names:
-            path = os.path.join(dirpath, n)
-            with open(path, encoding="utf-8") as f:
-                files[os.path.relpath(path, SOURCE)] = f.read()
-    return files
-
-
-def region_around(lines, index):
-    """(BEGIN index, END index) of the solution region holding lines[index]."""
-    b = max(k for k in range(index) if "// BEGIN SOLUTION" in lines[k])
-    e = min(k for k in range(index, len(lines)) if "// END SOLUTION" in lines[k])
-    return b, e
-
 
 def check_this_tree_passes_and_would_catch_builder_and_nearest_lane(tmp):
     """This tree's stages pass (their READMEs list all given code), and the
@@ -444,15 +292,6 @@ def check_this_tree_passes_and_would_catch_builder_and_nearest_lane(tmp):
     expect("`PrimInfo`, " in stages[rel], "test set-up: part 2's README does not list `PrimInfo`")
     run = generate(dict(stages, **{rel: stages[rel].replace("`PrimInfo`, ", "")}), tmp)
     expect_failure(run, "stages/part2_bvh/bvh_build.cpp:", "struct PrimInfo", what="PrimInfo not listed")
-
-
-FAST_PATH = dedent("""
-    // REFERENCE ONLY: the kit leaves this file out.
-    #pragma once
-    namespace pt {
-    inline int fast_solve_with_vector_units(int x) { return x * 2 + 1; }
-    }  // namespace pt
-    """)
 
 
 def check_reference_only_file_is_left_out(tmp):
@@ -571,7 +410,8 @@ def check_broken_markdown_link_fails(tmp):
 
 def check_overlay_quoting_solution_line_fails(tmp):
     """An overlay file that quotes a solution line, of a region or of a
-    reference-only file, leaks it: the generator refuses."""
+    reference-only file, leaks it, and so does a document of the tree: the
+    generator refuses."""
     overlay = {"instructors/starter_kit/overlay/README.md": "# Kit\n\n    const int doubled_and_offset_value = x * scale + 1;\n",
                "instructors/starter_kit/overlay/grader_README.md": "# Grader\n", "instructors/starter_kit/overlay/run.sh": "#!/bin/sh\n",
                "instructors/starter_kit/overlay/stages_README.md": "# Stages\n"}
@@ -581,6 +421,10 @@ def check_overlay_quoting_solution_line_fails(tmp):
     overlay["instructors/starter_kit/overlay/README.md"] = "# Kit\n\n    inline int fast_solve_with_vector_units(int x) { return x * 2 + 1; }\n"
     run = generate(base_tree(dict(overlay, **{"stages/part1_demo/fast_path.h": FAST_PATH})), tmp)
     expect_failure(run, "README.md:3:", "solution line leaked", what="an overlay quoting a reference-only file")
+    # A document of the reference copied into the kit leaks the line as well.
+    notes = "# Notes\n\n    const int doubled_and_offset_value = x * scale + 1;\n"
+    run = generate(base_tree({"stages/part1_demo/notes.md": notes}), tmp)
+    expect_failure(run, "stages/part1_demo/notes.md:3:", "solution line leaked", what="a document quoting a solution line")
 
 
 def check_emptied_helper_namespace_gets_a_hint(tmp):
@@ -685,22 +529,6 @@ def check_todo_part_must_match_its_folder(tmp):
     expect_failure(run, "stages/part1_demo/work.cpp:", "part 2", what="PT_TODO_AS(2, ...) in part 1")
 
 
-def main():
-    global SOURCE
-    checks = {name[len("check_"):]: f for name, f in globals().items() if name.startswith("check_")}
-    if len(sys.argv) != 3 or sys.argv[1] not in checks:
-        print(__doc__.strip() + "\n\nChecks: " + ", ".join(sorted(checks)), file=sys.stderr)
-        return 2
-    SOURCE = os.path.abspath(sys.argv[2])
-    with tempfile.TemporaryDirectory(prefix="kit-generator-") as tmp:
-        try:
-            checks[sys.argv[1]](tmp)
-        except Failure as e:
-            print(f"FAIL: {e}")
-            return 1
-    print(f"PASS: {checks[sys.argv[1]].__doc__.split(chr(10))[0].strip()} ...")
-    return 0
-
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_checks(__doc__, globals()))

@@ -143,6 +143,13 @@ struct PathStep {
   Hit hit;
   Vec3 point;
   std::string material;        // the material's name and type, e.g. "red (diffuse)"
+  // The BSDF model the render gives the material at its part (common/bsdf.h):
+  // "diffuse", "mirror", "glass", "microfacet", ..., or "not rendered" (a
+  // later part's material: black).
+  std::string bsdf_model;
+  // A delta BSDF (mirror, glass, refraction; part 6): no light samples, the
+  // light is what the bounce ray reaches (`reached`).
+  bool delta = false;
   Color emission{0.0f};
 
   bool direct_estimated = false;
@@ -162,9 +169,16 @@ struct PathStep {
 
   bool bsdf_sampled = false;
   float bsdf_u1 = 0, bsdf_u2 = 0;
-  Vec3 bsdf_wi_local, bsdf_wi;
+  Vec3 bsdf_wo_local, bsdf_wi_local, bsdf_wi;
   Color bsdf_f{0.0f};
   float bsdf_pdf = 0, bsdf_cos_theta = 0;
+  std::string bsdf_scatter;    // "reflected" (wi on wo's side of the surface) or "refracted"
+
+  // A delta step's light: the emission of the hit (or the sky) its bounce
+  // ray reaches, added as path weight x f |cos| / pdf x reached when the
+  // contract counts it (-o, --indirect-only, as a direct estimate).
+  Color reached{0.0f};
+  bool reached_counted = false;
 
   bool next_traced = false;    // a bounce ray left this hit
   Ray next_ray;

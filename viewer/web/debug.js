@@ -284,11 +284,16 @@ export function create(viewer, hooks) {
       const b = s.bsdf_sample;
       const rr = s.roulette;
       const roulette = rr && rr.applies ? `${f(rr.draws)} vs ${f(rr.continue_probability)}` : '—';
-      const direct = `${fc(s.direct)}${s.direct_counted === false ? ' (not counted)' : ''}`;
+      // A delta step (mirror, glass) has no direct estimate: its light is
+      // what its bounce ray reaches.
+      const direct = s.delta ? (s.reached ? `reached ${fc(s.reached)}${s.reached_counted ? '' : ' (not counted)'}` : '— (delta)')
+                             : `${fc(s.direct)}${s.direct_counted === false ? ' (not counted)' : ''}`;
+      const material = s.material.replace(/-material /, ' ') +
+                       (s.bsdf_model === 'not rendered' ? ' — not rendered at this part: black' : '');
       const expected = lightEstimate(s);
       const mismatch = expected && !sameColour(expected, s.direct);
       tbl.append(el('tr', {'data-bounce': s.bounce, class: mismatch ? 'mismatch' : ''},
-        el('td', {}, s.bounce), el('td', {}, s.material.replace(/-material /, ' ')), el('td', {}, direct), el('td', {}, b ? fc(b.f) : '—'),
+        el('td', {}, s.bounce), el('td', {}, material), el('td', {}, direct), el('td', {}, b ? fc(b.f) : '—'),
         el('td', {}, b ? f(b.cos_theta) : '—'), el('td', {}, b ? f(b.pdf) : '—'), el('td', {}, roulette),
         el('td', {}, fc(s.path_weight)), el('td', {class: 'added'}, fc(s.radiance_added))));
       // The light samples (or hemisphere probes) of the direct estimate, under the step.
@@ -301,7 +306,13 @@ export function create(viewer, hooks) {
       here.addEventListener('click', () => pickPoint(s));
       hitline.append(again, ' ', here);
       ls.append(hitline);
-      ls.append(el('div', {}, `${s.estimator || 'no direct estimate'}:`));
+      if (b) ls.append(bsdfLine(s, b));
+      if (s.delta) {
+        ls.append(el('div', {class: 'delta'}, `a delta BSDF (${s.bsdf_model}): no light samples; its light is what the bounce ray ` +
+          `reaches${s.reached ? `, ${fc(s.reached)}, ${s.reached_counted ? 'added as path weight × f·|cos θ|/pdf × reached' : 'not counted here (-o, --indirect-only)'}` : ''}`));
+      } else {
+        ls.append(el('div', {}, `${s.estimator || 'no direct estimate'}:`));
+      }
       if (expected) {
         ls.append(el('div', {class: mismatch ? 'mismatch' : 'match'},
           `the light samples' f·L·cos θ/pdf, averaged per light and summed: ${fc(expected)}` +
@@ -321,7 +332,21 @@ export function create(viewer, hooks) {
                   el('td', {id: 'dbg-path-total'}, fc(r.returned))));
     out.append(tbl);
     out.append(el('div', {class: 'note'}, 'Colours with equal channels show one number. radiance added = path weight × direct; ' +
-                  'the next path weight = path weight × f × cos θ / pdf (÷ the continue probability when roulette applies).'));
+                  'the next path weight = path weight × f × |cos θ| / pdf (÷ the continue probability when roulette applies); a refracted wi lies below the surface (cos θ < 0).'));
+  }
+
+  // What the step's BSDF sample did: reflected or refracted, the directions
+  // in the local frame (z = the normal), f, pdf (for a delta BSDF the
+  // probability of the choice it made) and the weight it gives the path.
+  function bsdfLine(s, b) {
+    const cos = Math.abs(num(b.cos_theta)), pdf = num(b.pdf);
+    const weight = pdf > 0 ? fc(b.f.map((x) => num(x) * cos / pdf)) : '—';
+    const line = el('div', {class: 'bsdf'},
+      `BSDF sample (${s.bsdf_model}${s.delta ? ', delta' : ''}): ${b.scatter}, wo ${f(b.wo_local)} → wi ${f(b.wi_local)} ` +
+      `(local, z = normal), f ${fc(b.f)}, pdf ${f(b.pdf)}${s.delta ? ' (the probability of this choice)' : ''}, ` +
+      `|cos θ| ${f(cos)}, f·|cos θ|/pdf ${weight}`);
+    line.dataset.scatter = b.scatter;
+    return line;
   }
 
   // A step's ray and primitive into the intersection tester; its point and

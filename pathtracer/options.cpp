@@ -78,6 +78,9 @@ std::string path_conflict(const RenderOptions& o) {
   if (!o.output_pfm.empty()) outputs.push_back({o.output_pfm, "--pfm " + o.output_pfm, "", "--pfm " + o.output_pfm});
   if (!o.stats_json.empty())
     outputs.push_back({o.stats_json, "--stats-json " + o.stats_json, "", "--stats-json " + o.stats_json});
+  if (!o.env_probability.empty())
+    outputs.push_back({o.env_probability, "--env-probability " + o.env_probability, "",
+                       "--env-probability " + o.env_probability});
   for (size_t i = 0; i < outputs.size(); ++i) {
     const PathUse& out = outputs[i];
     for (const PathUse& in : inputs)
@@ -129,6 +132,10 @@ void add_flags(CLI::App& app, RenderOptions* o, RawFlags* raw) {
   app.add_option("-a", raw->adaptive, "Adaptive sampling: samples per batch and tolerance")
       ->expected(2)->type_name("B T");
   app.add_flag("-H", o->hemisphere_sampling, "Direct lighting by uniform hemisphere sampling");
+  app.add_flag("--bsdf-hemisphere", o->bsdf_hemisphere,
+               "Part 7 on: sample microfacet BSDFs by cosine-weighted directions, not by their NDF");
+  app.add_option("--env-probability", o->env_probability,
+                 "Write the PNG of where the environment map (-e) is sampled: each texel's probability");
   app.add_option("-p", raw->cell, "Render only the cell [X,X+DX) x [Y,Y+DY), (0,0) bottom-left")
       ->expected(4)->type_name("X Y DX DY");
   app.add_option("--part", o->part, "Render what the assignment gives after part N (1-9)")
@@ -217,7 +224,8 @@ std::string apply_flags(const CLI::App& app, const RawFlags& raw, RenderOptions*
   // An empty path would otherwise mean "none" (-e) or fail late.
   for (const auto& [flag, value] : {std::pair<const char*, const std::string*>{"-e", &o->env_map},
                                     {"-f", &o->output_png}, {"-c", &o->camera_settings},
-                                    {"--pfm", &o->output_pfm}, {"--stats-json", &o->stats_json}})
+                                    {"--pfm", &o->output_pfm}, {"--stats-json", &o->stats_json},
+                                    {"--env-probability", &o->env_probability}})
     if (app.count(flag) > 0 && value->empty()) return std::string(flag) + ": the path is empty";
   if (o->scene_path.empty()) return "scene: the path is empty";
   if (app.count("--seed") > 0 && !parse_seed(raw.seed_text, &o->seed))
@@ -228,6 +236,11 @@ std::string apply_flags(const CLI::App& app, const RawFlags& raw, RenderOptions*
   if ((o->bvh_boxes_depth >= 0 || o->bvh_node >= 0) && o->part < 2)
     return std::string(o->bvh_boxes_depth >= 0 ? "--bvh-boxes" : "--bvh-node") +
            " draws the BVH's boxes: it needs --part 2 or later (part 1 has no BVH)";
+  if (!o->env_probability.empty() && o->env_map.empty())
+    return "--env-probability draws where the environment map is sampled: it needs -e";
+  if (!o->env_probability.empty() && o->part < 3)
+    return "--env-probability draws where the environment map is sampled: it needs --part 3 or later "
+           "(parts 1 and 2 do not light the scene)";
   if (o->part > kPartsBuilt)
     return "--part " + std::to_string(o->part) + ": this build implements parts 1 to " + std::to_string(kPartsBuilt) +
            " only";

@@ -16,6 +16,7 @@ struct RenderOptions {
   std::string stats_json;        // --stats-json: machine-readable figures
   std::string camera_settings;   // -c
   std::string env_map;           // -e
+  std::string env_probability;   // --env-probability: the map's sampling density as a PNG
   int part = kPartsBuilt;        // --part
   int samples_per_pixel = 1;     // -s
   int light_samples = 1;         // -l
@@ -30,6 +31,7 @@ struct RenderOptions {
   double adaptive_tolerance = 0.05;  // -a ... T
   bool adaptive_set = false;
   bool hemisphere_sampling = false;  // -H
+  bool bsdf_hemisphere = false;  // --bsdf-hemisphere: microfacet BSDFs sampled cosine-weighted
   bool cell_set = false;         // -p
   int cell_x = 0, cell_y = 0, cell_w = 0, cell_h = 0;
   uint64_t seed = 0;             // --seed

@@ -19,7 +19,7 @@ PathOptions path_options(const RenderOptions& opts) {
   return path;
 }
 
-std::shared_ptr<const PartShading> part_shading(const Scene& scene, int part) {
+std::shared_ptr<const PartShading> part_shading(const Scene& scene, int part, bool bsdf_hemisphere) {
   auto s = std::make_shared<PartShading>();
   s->materials = scene.materials;
   for (Material& m : s->materials) {
@@ -28,7 +28,9 @@ std::shared_ptr<const PartShading> part_shading(const Scene& scene, int part) {
       case MaterialType::Mirror: m.model = part >= 6 ? &kMirrorModel : nullptr; break;
       case MaterialType::Refraction: m.model = part >= 6 ? &kRefractionModel : nullptr; break;
       case MaterialType::Glass: m.model = part >= 6 ? &kGlassModel : nullptr; break;
-      case MaterialType::Microfacet: m.model = part >= 7 ? &kMicrofacetModel : nullptr; break;
+      case MaterialType::Microfacet:
+        m.model = part < 7 ? nullptr : bsdf_hemisphere ? &kMicrofacetCosineModel : &kMicrofacetModel;
+        break;
       default: break;
     }
   }
@@ -44,7 +46,7 @@ std::shared_ptr<const PartShading> part_shading(const Scene& scene, int part) {
 RadianceFn part_radiance(const Scene& scene, const Intersector& geometry, const RenderOptions& opts) {
   if (opts.part <= 2) return [&geometry](const Ray& r, Rng&) { return normal_shading(geometry, r); };
   // The lambdas below keep the shading data alive.
-  const std::shared_ptr<const PartShading> shading = part_shading(scene, opts.part);
+  const std::shared_ptr<const PartShading> shading = part_shading(scene, opts.part, opts.bsdf_hemisphere);
   ShadingContext ctx{ShadingScene(shading->materials, shading->lights), geometry};
   ctx.light_samples = opts.light_samples;
   ctx.hemisphere = opts.hemisphere_sampling;

@@ -28,7 +28,9 @@ struct PartShading {
   std::vector<Material> materials;
   std::vector<Light> lights;
 };
-std::shared_ptr<const PartShading> part_shading(const Scene& scene, int part);
+// `bsdf_hemisphere` (--bsdf-hemisphere): microfacet materials get part 7's
+// cosine-sampled model (the write-up's baseline) instead.
+std::shared_ptr<const PartShading> part_shading(const Scene& scene, int part, bool bsdf_hemisphere = false);
 
 // Parts 1 and 2: normal shading. Part 3: emission plus one bounce of direct
 // light (-l, -H). Parts 4 and 5: paths of up to -m bounces with Russian

@@ -11,6 +11,7 @@
 
 #include "stages/part1_raytracing/brute_force.h"
 #include "pathtracer/bvh_overlay.h"
+#include "pathtracer/env_probability.h"
 #include "stages/part5_adaptive_sampling/adaptive_sampling.h"
 #include "common/clock.h"
 #include "common/collada.h"
@@ -32,6 +33,7 @@ std::vector<std::string> output_paths(const RenderOptions& opts) {
   std::vector<std::string> paths = {png, rate_image_path(png)};
   if (!opts.output_pfm.empty()) paths.push_back(opts.output_pfm);
   if (!opts.stats_json.empty()) paths.push_back(opts.stats_json);
+  if (!opts.env_probability.empty()) paths.push_back(opts.env_probability);
   return paths;
 }
 
@@ -199,11 +201,13 @@ int run_render_job(const RenderOptions& opts) {
     const double load_seconds = seconds_since(t0);
     std::printf("Done! (%.4f sec)\n", load_seconds);
     for (const std::string& w : warnings) std::fprintf(stderr, "pathtracer: warning: %s\n", w.c_str());
+    std::shared_ptr<const EnvironmentMap> env_map;
     if (!opts.env_map.empty()) {
       doing = "reading the environment map " + opts.env_map;
       Light env;
       env.type = LightType::Environment;
-      env.environment = std::make_shared<const EnvironmentMap>(load_environment_map(opts.env_map));
+      env_map = std::make_shared<const EnvironmentMap>(load_environment_map(opts.env_map));
+      env.environment = env_map;
       scene.lights.push_back(env);
     }
     configure_camera(scene.camera, opts);
@@ -260,6 +264,12 @@ int run_render_job(const RenderOptions& opts) {
     if (!opts.stats_json.empty()) {
       const std::string json = stats_json(scene, opts, r, load_seconds);
       files.add(opts.stats_json, std::vector<uint8_t>(json.begin(), json.end()));
+    }
+    if (!opts.env_probability.empty()) {
+      // Where the render's sampler of the map draws its directions.
+      std::string note;
+      files.add(opts.env_probability, encode_environment_probability_png(*env_map, opts.part, &note));
+      if (!note.empty()) std::fprintf(stderr, "pathtracer: warning: %s\n", note.c_str());
     }
     files.commit();
     std::printf("Done!\n");

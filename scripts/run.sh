@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# The main job: install what is missing, build, render the default scene,
+# The main job: install what is missing, build the renderer and the grader
+# (only those: scripts/test.sh builds the rest), render the default scene,
 # then grade the reference build on every case and print the table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
-scripts/build.sh
+scripts/setup.sh --build-only
+scripts/build.sh pathtracer grader
 mkdir -p out
 threads=$(nproc 2>/dev/null || echo 2)
 # The course's standard command: global illumination, adaptive sampling.

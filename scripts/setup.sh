@@ -1,18 +1,33 @@
 #!/usr/bin/env bash
 # Installs the Debian packages the project needs, when they are missing.
 # As root it runs apt-get; otherwise it prints the exact command to run.
+#   scripts/setup.sh               everything: also the viewer's npm packages
+#                                  and, where instructors/ is, Chromium
+#   scripts/setup.sh --build-only  what configuring and building needs, no more
+#                                  (scripts/run.sh: the renderer and the grader)
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
+build_only=0
+case "${1:-}" in
+  "") ;;
+  --build-only) build_only=1 ;;
+  *) echo "usage: scripts/setup.sh [--build-only]" >&2; exit 2 ;;
+esac
+# Configuring needs every library the CMake files look for (the viewer's
+# cpp-httplib and the tests' Catch2 too), even to build one target.
 packages=(build-essential cmake python3 libtinyxml2-dev liblodepng-dev catch2 libcli11-dev libopenexr-dev
-          libcpp-httplib-dev pkg-config nodejs)
-# npm comes with some nodejs packages; Debian's is its own package.
-command -v npm >/dev/null 2>&1 || packages+=(npm)
-# The instructors' tests check the viewer's and the write-up's pages in
-# headless Chromium; the starter kit, which has no instructors/ folder, does
-# not need it.
-if [ -d "$root/instructors" ]; then
-  packages+=(chromium)
+          libcpp-httplib-dev pkg-config)
+if [ "$build_only" = 0 ]; then
+  packages+=(nodejs)
+  # npm comes with some nodejs packages; Debian's is its own package.
+  command -v npm >/dev/null 2>&1 || packages+=(npm)
+  # The instructors' tests check the viewer's and the write-up's pages in
+  # headless Chromium; the starter kit, which has no instructors/ folder,
+  # does not need it.
+  if [ -d "$root/instructors" ]; then
+    packages+=(chromium)
+  fi
 fi
 
 missing=()
@@ -25,7 +40,7 @@ done
 # browser is downloaded: the tests drive Debian's chromium).
 npm_packages() {
   local web="$root/viewer/web" omit=()
-  [ -f "$web/package-lock.json" ] || return 0
+  [ "$build_only" = 0 ] && [ -f "$web/package-lock.json" ] || return 0
   # Without instructors/ (the starter kit) only the page's own packages:
   # playwright-core drives the browser tests, which the kit does not have.
   [ -d "$root/instructors" ] || omit=(--omit=dev)

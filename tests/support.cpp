@@ -69,6 +69,20 @@ void write_text(const std::string& path, const std::string& text) {
   if (!f) throw std::runtime_error("cannot write " + path);
 }
 
+double timeout_scale() {
+  const char* v = std::getenv("PT_TEST_TIMEOUT_SCALE");
+  if (!v || !*v) return 1.0;
+  // The grammar of tests/timeout_scale/: digits, then a point and digits.
+  const std::string s = v;
+  const size_t digits = s.find_first_not_of("0123456789");
+  const bool well_formed =
+      digits != 0 && (digits == std::string::npos ||
+                      (s[digits] == '.' && s.find_first_not_of("0123456789", digits + 1) == std::string::npos));
+  const double scale = well_formed ? std::strtod(v, nullptr) : 0.0;
+  if (!(scale > 0)) throw std::runtime_error("PT_TEST_TIMEOUT_SCALE=" + s + ": not a number > 0 such as 2 or 2.5");
+  return scale;
+}
+
 bool file_exists(const std::string& path) { return fs::exists(path); }
 
 std::vector<std::string> list_dir(const std::string& dir) {

@@ -35,6 +35,12 @@ class TempDir {
 };
 
 void write_text(const std::string& path, const std::string& text);
+
+// PT_TEST_TIMEOUT_SCALE from the environment (README, "Tests"): a number > 0
+// such as 2 or 2.5, 1 when unset, by which a test multiplies every timeout it
+// gives a program it runs (as ctest multiplies the tests' own TIMEOUT).
+// Throws std::runtime_error naming the variable when it is not such a number.
+double timeout_scale();
 bool file_exists(const std::string& path);
 std::vector<std::string> list_dir(const std::string& dir);
 

@@ -75,7 +75,7 @@ std::vector<Case> read_cases(const std::string& path) {
     if (!valid_name(c.name)) fail("case name '" + c.name + "' must be letters, digits, _ or -");
     if (!names.insert(c.name).second) fail("duplicate case name '" + c.name + "'");
     double part = 0;
-    if (!parse_double(f[1], &part) || part < 1 || part > 5 || part != int(part)) fail("part must be 1..5");
+    if (!parse_double(f[1], &part) || part < 1 || part > 9 || part != int(part)) fail("part must be 1..9");
     c.part = int(part);
     if (!parse_kind(f[2], &c.kind)) fail("unknown kind '" + f[2] + "' (image, rate, speedup)");
     if (!parse_double(f[3], &c.points) || c.points < 0) fail("points must be a number >= 0");

@@ -34,7 +34,7 @@ void Common::add_to(CLI::App* app, bool with_binary) {
   app->add_option("--references", references, "The reference folder")->capture_default_str();
   app->add_option("--scenes", scenes, "Where the cases' scenes are")->capture_default_str();
   app->add_option("--catalogue", catalogue, "The known bugs' signatures, for the report's hints")->capture_default_str();
-  app->add_option("--part", parts, "Only these parts (repeatable)")->check(CLI::Range(1, 5));
+  app->add_option("--part", parts, "Only these parts (repeatable)")->check(CLI::Range(1, 9));
   app->add_option("--case", names, "Only these cases (repeatable)");
   app->add_option("--shard", shard, "K/N: only the K-th of N equal slices of the cases (K = 1..N)");
   app->add_option("-j,--jobs", jobs, "Cases (or renders) at a time")->check(CLI::Range(1, 256))->capture_default_str();

@@ -305,7 +305,7 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   checks.push_back(check_image(img, c.points));
   // Noise is its own check, where the image is right: a wrong image's
   // problem is the image.
-  if (img.passed) checks.push_back(check_noise(img, rules.noise_bound, rules.noise_credit, case_method(c), c.points));
+  if (img.passed) checks.push_back(check_noise(img, rules.noise_bound_for(c), rules.noise_credit, case_method(c), c.points));
 
   if (c.kind == CaseKind::Rate) checks.push_back(rate_check(c, ref, rs, rules, &r.signature));
   if (c.part >= 2) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <set>
 #include <stdexcept>
 
@@ -168,6 +169,13 @@ CaseGroups case_groups(const std::vector<Case>& cases) {
     if (scene(c, "CBempty") || scene(c, "CBlights") || (scene(c, "cow") && !has(c, "-e") && c.part >= 3))
       v.push_back("delta_lights");
     if (has(c, "-o")) v.push_back("last_bounce_only");
+    // Project 3-2's materials, lights and camera.
+    if (c.scene == "CBspheres.dae") v.push_back("mirror_glass");
+    if (scene(c, "microfacet")) v.push_back("microfacet");
+    if (has(c, "-e")) v.push_back("environment");
+    const auto b = std::find(c.options.begin(), c.options.end(), "-b");
+    if (b != c.options.end() && b + 1 != c.options.end() && std::atof((b + 1)->c_str()) > 0)
+      v.push_back("depth_of_field");
     if (c.kind == CaseKind::Rate) v.push_back("adaptive");
     if (c.kind == CaseKind::Speedup) v.push_back("speedup");
   }

@@ -123,7 +123,7 @@ std::string terminal_table(const std::vector<CaseResult>& rs, const std::vector<
   s << columns(rows, {true, false, false, true, true, true, true, false});
   // One line per part: how far the build has got.
   s << "\n";
-  for (int part = 1; part <= 5; ++part) {
+  for (int part = 1; part <= 9; ++part) {
     int cases = 0, passed = 0, missing = 0;
     double score = 0, max = 0;
     for (const auto& r : rs) {

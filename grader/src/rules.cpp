@@ -1,6 +1,7 @@
 #include "grader/src/rules.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -46,6 +47,14 @@ Rules make_rules(const std::vector<Case>& all, const std::string& references) {
   return r;
 }
 
+double Rules::noise_bound_for(const Case& c) const {
+  const auto o = std::find(c.options.begin(), c.options.end(), "-o");
+  const bool last_bounce_only = o != c.options.end() && o + 1 != c.options.end() && *(o + 1) == "0";
+  const int bounces = std::min(case_int_option(c, "-m", 1), 16);
+  if (!last_bounce_only || bounces < 2) return noise_bound;
+  return noise_bound * std::pow(noise_growth_per_bounce, bounces - 1);
+}
+
 std::string case_method(const Case& c) {
   const int spp = case_int_option(c, "-s", 1), lights = case_int_option(c, "-l", 1);
   const bool hemisphere = std::find(c.options.begin(), c.options.end(), "-H") != c.options.end();
@@ -58,8 +67,16 @@ std::string case_method(const Case& c) {
     case 4:
       return std::string("path tracing with light sampling at every bounce") +
              (hemisphere ? " (-H)" : "");
-    default:
+    case 5:
       return "adaptive sampling with light sampling";
+    case 6:
+      return "path tracing through mirror and glass (one direction per delta bounce)";
+    case 7:
+      return "importance sampling of the microfacet BRDF's normal distribution";
+    case 8:
+      return "importance sampling of the environment map";
+    default:
+      return "the thin lens sampled uniformly over its disk";
   }
 }
 

@@ -30,6 +30,14 @@ struct Rules {
   // is not the one the case asks for).
   double noise_bound = 4.0;
   double noise_credit = 0.5;
+  // Cases that keep only the paths of exactly -m bounces (-o 0) let the
+  // legal choices' extra noise compound at every bounce (roulette at 0.5
+  // rather than 0.7 costs 1.4 times the variance per bounce, uniform bounce
+  // directions 4/3 on a diffuse surface): their bound grows by this factor
+  // per bounce after the first.
+  double noise_growth_per_bounce = 1.5;
+  // The bound for case c: noise_bound, or more for -o 0 at -m >= 2.
+  double noise_bound_for(const Case& c) const;
   CostBounds costs;
   // A plain binary BVH's costs per case (reference_images/plain_bvh_costs.json).
   std::map<std::string, QueryCosts> plain_bvh;

@@ -46,7 +46,7 @@ int todo_part(const std::string& line) {
   const size_t at = line.find(prefix);
   if (at == std::string::npos) return 0;
   const size_t digit = at + prefix.size();
-  return digit < line.size() && line[digit] >= '1' && line[digit] <= '5' ? line[digit] - '0' : 0;
+  return digit < line.size() && line[digit] >= '1' && line[digit] <= '9' ? line[digit] - '0' : 0;
 }
 
 bool todo_dooms(int todo, int case_part) { return todo >= 1 && todo <= case_part && (todo != 2 || case_part == 2); }

@@ -128,6 +128,8 @@ struct Differences {
         candidate_case_var(w_, h_, nc_), reference_var(w_, h_, nc_) {}
 };
 
+double noise_ratio(const Differences& D, const ScoreOptions& opts, double cap);
+
 Differences differences(const CandidateRenders& cand, const ImageBuffer& mean, const ImageBuffer& var, int runs,
                         const ScoreOptions& opts) {
   const int w = mean.width, h = mean.height, nc = std::clamp(opts.channels, 1, 3);
@@ -157,10 +159,22 @@ Differences differences(const CandidateRenders& cand, const ImageBuffer& mean, c
   const double b = std::max(runs, 1);
   if (k > 1) {
     const ChannelField pu = u.pooled();
+    // Where light is found by rare hits (a small light by hemisphere
+    // sampling, a long path through roulette at a low probability), most
+    // pixels of four renders hold none: their spread, even pooled over
+    // 3x3, says "no noise" while the estimator is very noisy there. The
+    // floor is the variance the build's noise level predicts: the
+    // reference's variance at that pixel (where noise is) times the build's
+    // own ratio over the whole image (how much of it), per render of its
+    // share. A build as noisy as the reference gets about its own spread.
+    // Uncapped: here a rare large value is the very evidence of the noise.
+    const double ratio = noise_ratio(D, opts, HUGE_VAL);
+    const double model = ratio > 0 ? ratio / (cand.share * k) : 0.0;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
         for (int c = 0; c < nc; ++c) {
-          D.sigma2(x, y, c) = std::max(pu(x, y, c) + vr(x, y, c) / b, opts.variance_floor);
+          const double own = std::max(pu(x, y, c), model * vr(x, y, c));
+          D.sigma2(x, y, c) = std::max(own + vr(x, y, c) / b, opts.variance_floor);
           D.expected(x, y, c) = u(x, y, c) + D.reference_var(x, y, c) / b;
         }
   } else {
@@ -240,14 +254,14 @@ bool block_test(const Differences& D, const ScoreOptions& opts, ImageScore* s) {
 
 // The candidate's variance at the case's settings over the reference's,
 // each pixel channel's share capped at noise_cap times the reference's.
-double noise_ratio(const Differences& D, const ScoreOptions& opts) {
+double noise_ratio(const Differences& D, const ScoreOptions& opts, double cap) {
   if (D.renders < 2) return -1;
   double num = 0, den = 0;
   for (int y = 0; y < D.h; ++y)
     for (int x = 0; x < D.w; ++x)
       for (int c = 0; c < D.nc; ++c) {
         const double vr = D.reference_var(x, y, c);
-        num += std::min(D.candidate_case_var(x, y, c), opts.noise_cap * std::max(vr, opts.variance_floor));
+        num += std::min(D.candidate_case_var(x, y, c), cap * std::max(vr, opts.variance_floor));
         den += vr;
       }
   // A reference without noise to speak of (a point light at -s 4) has no
@@ -312,7 +326,7 @@ ImageScore score_renders(const CandidateRenders& cand, const ImageBuffer& mean, 
   s.mean_candidate = (sum_m + channel_d[0] + channel_d[1] + channel_d[2]) / n;
   s.relmse = rel / n;
   s.relmse_expected = rel_expected / n;
-  s.noise_ratio = noise_ratio(D, opts);
+  s.noise_ratio = noise_ratio(D, opts, opts.noise_cap);
   const bool pixels_ok = s.channels_failed <= (1.0 - opts.min_pass_fraction) * n;
 
   if (opts.mean_test) image_mean_test(channel_d, channel_v, nc, opts, &s);

@@ -84,7 +84,8 @@ for name in "${names[@]}"; do
     continue
   fi
   echo "== grade $name (part $part)"
-  grade "$build_root/bin/$name" "$build_root/$name.grade"
+  grade_from_part "$build_root/bin/$name" "$build_root/$name.grade" \
+    "$(first_part_of_patch "$patches/$name.patch")" "$build_root/reference.grade"
   read -r score max n failed < <(summarise "$build_root/$name.grade/results.json")
   if [ "$failed" = "-" ]; then
     caught=no; status=1; nfailed=0; by=""
@@ -104,7 +105,9 @@ mkdir -p "$(dirname "$table")"
   echo
   echo "Each mutant is the reference renderer with one classic student bug planted: the patch"
   echo "[patches/<name>.patch](patches/) applied to a copy of the tree (list, parts and descriptions"
-  echo "in [mutants.txt](mutants.txt)). Every build is graded on every case; a mutant is caught"
+  echo "in [mutants.txt](mutants.txt)). Every build is graded on every case (a mutant whose patch touches only"
+  echo "the stage of part N and later is rendered on the cases of parts N and later: the earlier parts run none of"
+  echo "its code, and their results are the reference build's); a mutant is caught"
   echo "when it loses points on some case. \"parts\" lists the parts whose cases took points; \"part\" is the"
   echo "part the bug belongs to. The reference build and the starter kit are graded on every case too."
   echo

@@ -18,7 +18,12 @@ function servePage(html) {
     });
     server.listen(0, '127.0.0.1', () => resolve({
       url: `http://127.0.0.1:${server.address().port}/`,
-      close: () => new Promise((r) => server.close(r)),
+      // The browser keeps its idle connection open for a minute: close it
+      // rather than wait for it.
+      close: () => new Promise((r) => {
+        server.close(r);
+        server.closeAllConnections();
+      }),
     }));
   });
 }

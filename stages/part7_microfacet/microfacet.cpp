@@ -116,4 +116,18 @@ float microfacet_pdf(const Material& m, const Vec3& wo, const Vec3& wi) {
 
 const BSDFModel kMicrofacetModel = {"microfacet", microfacet_f, microfacet_sample_f, microfacet_pdf, false};
 
+Color microfacet_sample_f_cosine(const Material& m, const Vec3& wo, float u1, float u2, Vec3* wi, float* pdf) {
+  *wi = sample_cosine_hemisphere(u1, u2);
+  *pdf = cosine_hemisphere_pdf(*wi);
+  return microfacet_f(m, wo, *wi);
+}
+
+float microfacet_pdf_cosine(const Material& m, const Vec3& wo, const Vec3& wi) {
+  unused(m, wo);
+  return cosine_hemisphere_pdf(wi);
+}
+
+const BSDFModel kMicrofacetCosineModel = {"microfacet, cosine-sampled", microfacet_f, microfacet_sample_f_cosine,
+                                          microfacet_pdf_cosine, false};
+
 }  // namespace pt

@@ -52,4 +52,13 @@ float microfacet_pdf(const Material& m, const Vec3& wo, const Vec3& wi);
 // The model the render gives microfacet materials from part 7 on.
 extern const BSDFModel kMicrofacetModel;
 
+// Given: the baseline of the write-up's comparison of samplers
+// (--bsdf-hemisphere): the same BRDF, microfacet_f, with wi drawn
+// cosine-weighted over the hemisphere (pdf cos theta_i / pi), as the
+// course's starter sample_f draws it. Unbiased, and noisier the smoother
+// the metal: few such directions fall in a narrow lobe.
+Color microfacet_sample_f_cosine(const Material& m, const Vec3& wo, float u1, float u2, Vec3* wi, float* pdf);
+float microfacet_pdf_cosine(const Material& m, const Vec3& wo, const Vec3& wi);
+extern const BSDFModel kMicrofacetCosineModel;
+
 }  // namespace pt

@@ -1,8 +1,12 @@
 // What a grading run notices across cases (findings.h), on made-up results.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include "grader/src/findings.h"
 #include "grader/src/hints.h"
+#include "grader/src/run_case.h"
+#include "grader/src/rules.h"
 #include "grader/src/signature.h"
 
 using namespace grader;
@@ -166,4 +170,40 @@ TEST_CASE("Hints from one case alone: only bugs that fail that case, nearest fir
   CHECK(hints[0].bug == &cat.bugs[0]);  // points into the caller's catalogue
   for (const Hint& h : hints) CHECK(h.bug->name != "hemisphere_pdf");  // passes p4_m2
   CHECK(likely_bugs_for_case("p4_m2", CaseSignature{}, cat, case_groups(kCases)).empty());  // a passing case
+}
+
+TEST_CASE("Project 3-2's cases: their groups, and their parts' TODO lines doom them", "[grader]") {
+  const CaseGroups g = case_groups({make_case("p6_m3", 6, "CBspheres.dae", {"-m", "3"}),
+                                    make_case("p7_dragon", 7, "CBdragon_microfacet_au_0.5.dae"),
+                                    make_case("p8_bunny", 8, "bunny_microfacet_envmap.dae", {"-e", "sky_sun.exr"}),
+                                    make_case("p9_near", 9, "CBspheres_dof.dae", {"-b", "0.2", "-d", "4.1"}),
+                                    make_case("p9_pinhole", 9, "CBspheres_dof.dae", {"-b", "0"})});
+  const auto has = [&](const std::string& c, const std::string& group) {
+    const std::vector<std::string>& v = g.at(c);
+    return std::find(v.begin(), v.end(), group) != v.end();
+  };
+  CHECK(has("p6_m3", "mirror_glass"));
+  CHECK(has("p6_m3", "part6"));
+  CHECK_FALSE(has("p7_dragon", "mirror_glass"));
+  CHECK(has("p7_dragon", "microfacet"));
+  CHECK(has("p7_dragon", "mesh"));
+  CHECK(has("p8_bunny", "environment"));
+  CHECK(has("p8_bunny", "microfacet"));
+  CHECK(has("p9_near", "depth_of_field"));
+  CHECK_FALSE(has("p9_pinhole", "depth_of_field"));
+  CHECK(todo_part("TODO: implement Part 8: sample_environment (stages/part8_environment_light/x.cpp)") == 8);
+  CHECK(todo_part("TODO: implement Part 9: generate_ray_for_thin_lens") == 9);
+  CHECK(todo_dooms(7, 8));
+  CHECK_FALSE(todo_dooms(8, 7));
+  CHECK_FALSE(todo_dooms(2, 9));  // part 2's stand-in finds the right hits
+}
+
+TEST_CASE("The noise bound grows per bounce only where a case keeps paths of exactly -m bounces", "[grader]") {
+  const Rules rules;
+  CHECK(rules.noise_bound_for(make_case("p3", 3, "CBspheres_lambertian.dae", {"-l", "4"})) == Approx(4.0));
+  CHECK(rules.noise_bound_for(make_case("p4", 4, "CBspheres_lambertian.dae", {"-m", "5"})) == Approx(4.0));
+  CHECK(rules.noise_bound_for(make_case("p4o", 4, "CBspheres_lambertian.dae", {"-m", "2", "-o", "0"})) == Approx(6.0));
+  CHECK(rules.noise_bound_for(make_case("p4o5", 4, "CBspheres_lambertian.dae", {"-m", "5", "-o", "0"})) ==
+        Approx(4.0 * 1.5 * 1.5 * 1.5 * 1.5));
+  CHECK(rules.noise_bound_for(make_case("p4o1", 4, "CBspheres_lambertian.dae", {"-m", "5", "-o", "1"})) == Approx(4.0));
 }

@@ -196,7 +196,8 @@ TEST_CASE("The case list rejects malformed lines naming file and line", "[grader
   const std::string ok = "a 1 image 1 30 CBempty.dae -r 16 12\n";
   check(ok + "a 1 image 1 30 CBempty.dae\n", "duplicate");
   check(ok + "b 1 shiny 1 30 CBempty.dae\n", "unknown kind");
-  check(ok + "b 6 image 1 30 CBempty.dae\n", "part");
+  check(ok + "b 10 image 1 30 CBempty.dae\n", "part must be 1..9");
+  check(ok + "b 0 image 1 30 CBempty.dae\n", "part must be 1..9");
   check(ok + "b 1 image 1 30 CBempty.dae -f x.png\n", "set by the grader");
   check(ok + "b 1 image 1\n", "expected");
   check(ok + "b 1 image 1 -5 CBempty.dae\n", "timeout");

@@ -40,6 +40,7 @@
 #include "common/collada.h"
 #include "common/lights.h"
 #include "common/rng.h"
+#include "pathtracer/env_probability.h"
 #include "pathtracer/render_job.h"
 #include "stages/part8_environment_light/environment_sampling.h"
 #include "tests/statistics/analytic_scenes.h"
@@ -298,6 +299,49 @@ TEST_CASE("a map that sends no light gives empty distributions and samples that 
   CHECK(s.pdf > 0.0f);  // a light sample's pdf is always positive
   CHECK(s.radiance == Color(0.0f));
   CHECK(environment_pdf(d, black, Vec3(1, 0, 0)) == 0.0f);
+}
+
+// --env-probability's picture of where the render samples the map.
+TEST_CASE("the probability image: part 8's texel probabilities from the CDFs, uniform ones before part 8",
+          "[part8][environment]") {
+  const auto map = test_map();
+  const std::vector<double> want = texel_probabilities(*map);
+  std::string note;
+  const std::vector<double> p8 = environment_texel_probabilities(*map, 8, &note);
+  CHECK(note.empty());
+  REQUIRE(p8.size() == want.size());
+  double total = 0;
+  for (size_t i = 0; i < p8.size(); ++i) {
+    INFO("texel " << i);
+    CHECK(p8[i] == Approx(want[i]).epsilon(1e-4).margin(1e-9));
+    total += p8[i];
+  }
+  CHECK(total == Approx(1.0).epsilon(1e-6));
+  // Before part 8: each texel's solid angle over 4 pi, the same along a row.
+  const std::vector<double> p7 = environment_texel_probabilities(*map, 7, &note);
+  REQUIRE(p7.size() == want.size());
+  total = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x) {
+      const double solid_angle = 2 * M_PI / 32 * (std::cos(M_PI * y / 16) - std::cos(M_PI * (y + 1) / 16));
+      CHECK(p7[size_t(y) * 32 + x] == Approx(solid_angle / (4 * M_PI)).epsilon(1e-9));
+      total += p7[size_t(y) * 32 + x];
+    }
+  CHECK(total == Approx(1.0).epsilon(1e-9));
+  // A map without light: no distributions, a black image and a warning.
+  EnvironmentMap black;
+  black.width = 4;
+  black.height = 2;
+  black.texels.assign(8, Color(0.0f));
+  const std::vector<double> none = environment_texel_probabilities(black, 9, &note);
+  CHECK(none == std::vector<double>(8, 0.0));
+  CHECK(note.find("empty") != std::string::npos);
+  // The grey scale: logarithmic, 1000 times below or above the average texel.
+  CHECK(probability_grey(0.0, 100) == 0.0);
+  CHECK(probability_grey(1.0 / 100, 100) == Approx(0.5));
+  CHECK(probability_grey(10.0 / 100, 100) == Approx(4.0 / 6.0));
+  CHECK(probability_grey(1e-5 / 100, 100) == 0.0);
+  CHECK(probability_grey(1e3 / 100, 100) == 1.0);
 }
 
 TEST_CASE("bunny_ambient.dae lit by the map: --part 7 (uniform) and --part 8 agree in mean, by 8x8 blocks",

@@ -35,6 +35,15 @@ def check(cond, what):
     return cond
 
 
+def scaled_seconds(seconds):
+    """`seconds` times PT_TEST_TIMEOUT_SCALE (tests/timeout_scale/timeout_scale.py)."""
+    path = os.path.join(ROOT, "tests", "timeout_scale")
+    if path not in sys.path:
+        sys.path.insert(0, path)
+    import timeout_scale
+    return timeout_scale.scaled_seconds(seconds)
+
+
 def run(args, **kw):
     t0 = time.monotonic()
     r = subprocess.run([sys.executable] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)

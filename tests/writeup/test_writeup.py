@@ -44,7 +44,7 @@ import tomllib
 
 sys.dont_write_bytecode = True
 from support import (CHECKER, GENERATOR, RECIPES, ROOT, PageParser, check, expected_items,  # noqa: E402
-                     failures, run, summary)
+                     failures, run, scaled_seconds, summary)
 import test_bvh_figures  # noqa: E402
 import test_flags  # noqa: E402
 
@@ -121,7 +121,8 @@ def test_browser(a):
     if not os.path.exists("/usr/bin/chromium") and not shutil.which("chromium"):
         check(False, "chromium is not installed: run scripts/setup.sh (as root) to install it")
         return
-    r = run([CHECKER, page, "--screenshot", shot, "--full-screenshot", full])
+    # check_page.py's limit on each Chromium run (180 s by default), scaled.
+    r = run([CHECKER, page, "--screenshot", shot, "--full-screenshot", full, "--timeout", str(scaled_seconds(180))])
     sys.stdout.write(r.stdout)
     sys.stdout.write(r.stderr)
     check(r.returncode == 0, f"the page loads in chromium with every image (exit {r.returncode})")

@@ -1,6 +1,7 @@
 """The render cache: OUT/cache/<key>/ holds one finished render (render.png,
 render_rate.png, render.json from --stats-json, log.txt, meta.json with the
-command, times and checks); failed renders go to OUT/cache/failed/<key>/;
+command, times and checks, and render_env_probability.png when its grid shows
+where the environment map is sampled); failed renders go to OUT/cache/failed/<key>/;
 history.json keeps each recipe's last CPU time for the ETA; bin/ the private
 copy of the binary renders run with."""
 
@@ -45,9 +46,19 @@ def cache_key(r, binary_hash, file_hash):
     """The command line (without -t unless the recipe fixes it, and without output
     paths), the binary's bytes, and the bytes of the files the command reads."""
     files = [file_hash(r.scene)] + [file_hash(get_flag(r.flags, f)[0]) for f in FILE_FLAGS if get_flag(r.flags, f)]
-    desc = json.dumps({"args": recipe_args(r), "threads": r.threads, "binary": binary_hash,
-                       "scene": os.path.basename(r.scene), "files": files})
+    what = {"args": recipe_args(r), "threads": r.threads, "binary": binary_hash,
+            "scene": os.path.basename(r.scene), "files": files}
+    if r.env_probability:
+        what["env_probability"] = True  # the entry holds that image too
+    desc = json.dumps(what)
     return hashlib.sha256(desc.encode()).hexdigest()[:32]
+
+
+def entry_images(r):
+    """The images a finished render's entry holds for render r: render.png and,
+    when its grid shows it, render_env_probability.png (render_rate.png is
+    always written, and only shown)."""
+    return ["render.png"] + (["render_env_probability.png"] if r.env_probability else [])
 
 
 class Cache:
@@ -67,7 +78,7 @@ class Cache:
 
     def lookup(self, job):
         """Fills job from its cache entry and returns True when there is a usable one:
-        meta.json, render.json and render.png. The checks come from meta.json, or
+        meta.json, render.json and its images (entry_images). The checks come from meta.json, or
         again from the entry's log and render.json when they are not there."""
         entry = os.path.join(self.dir, job.key)
         if not os.path.isfile(os.path.join(entry, "meta.json")):
@@ -77,7 +88,7 @@ class Cache:
                 job.meta = json.load(f)
             with open(os.path.join(entry, "render.json")) as f:
                 job.stats = json.load(f)
-            if os.path.isfile(os.path.join(entry, "render.png")):
+            if all(os.path.isfile(os.path.join(entry, f)) for f in entry_images(job.proto)):
                 job.status, job.dir = "cached", entry
                 job.checks = job.meta.get("checks")
                 if not checks.current(job.checks):

@@ -85,7 +85,8 @@ def dry_run(binary, renders):
 
 
 def copy_images(out_dir, renders):
-    """The figures' images into OUT/img/<grid>/<name>.png (and <name>_rate.png)."""
+    """The figures' images into OUT/img/<grid>/<name>.png (and the images shown
+    beside them: <name>_rate.png, <name>_env_probability.png)."""
     img_dir = os.path.join(out_dir, "img")
     shutil.rmtree(img_dir, ignore_errors=True)
     for r in renders:
@@ -93,7 +94,7 @@ def copy_images(out_dir, renders):
         if j.status == "failed":
             continue
         os.makedirs(os.path.join(img_dir, r.grid), exist_ok=True)
-        pairs = [("render.png", f"{r.name}.png")] + ([("render_rate.png", f"{r.name}_rate.png")] if r.rate else [])
+        pairs = [("render.png", f"{r.name}.png")] + [(f, f"{r.name}{suffix}.png") for f, suffix, _ in r.side_images()]
         for src, dst in pairs:
             s = os.path.join(j.dir, src)
             if os.path.isfile(s):

@@ -9,15 +9,15 @@ from .base import InputError
 # The pathtracer's flags and how many values each takes (pathtracer --help).
 FLAG_ARITY = MappingProxyType({
     "-s": 1, "-l": 1, "-t": 1, "-m": 1, "-o": 1, "-e": 1, "-b": 1, "-d": 1,
-    "-f": 1, "-r": 2, "-c": 1, "-a": 2, "-H": 0, "-p": 4, "--part": 1,
+    "-f": 1, "-r": 2, "-c": 1, "-a": 2, "-H": 0, "--bsdf-hemisphere": 0, "-p": 4, "--part": 1,
     "--seed": 1, "--pfm": 1, "--stats-json": 1, "--bvh-leaf": 1,
     "--bvh-bins": 1, "--bvh-boxes": 1, "--bvh-node": 1, "--no-rr": 0, "--direct-only": 0, "--indirect-only": 0,
-    "--course-area-pdf": 0, "--no-progress": 0,
+    "--course-area-pdf": 0, "--no-progress": 0, "--env-probability": 1,
 })
 # Set by the generator itself (from size, seed, the scheduler and the cache).
 GENERATED_FLAGS = MappingProxyType({"-r": "size", "--seed": "seed", "-t": "threads",
                                    "-f": None, "--stats-json": None, "--no-progress": None,
-                                   "--pfm": None})
+                                   "--pfm": None, "--env-probability": "env_probability"})
 FILE_FLAGS = ("-e", "-c")  # their files' bytes are part of the cache key
 
 

@@ -24,7 +24,7 @@ nav ul { columns: 2; font-size: 0.95em; }
 figure { margin: 0; background: #fff; border: 1px solid #ddd; border-radius: 6px; padding: 8px; }
 figure img { max-width: 100%; height: auto; display: block; margin: 0 auto; background: #000; }
 .quick figure img { width: 100%; max-width: 320px; image-rendering: pixelated; }
-.pair { display: grid; grid-template-columns: 1fr 1fr; gap: 4px; }
+.pair { display: grid; grid-template-columns: repeat(var(--n, 2), 1fr); gap: 4px; align-items: start; }
 .pair span { font-size: 0.8em; color: #666; text-align: center; }
 figcaption { margin-top: 6px; font-size: 0.9em; }
 figcaption .label { font-weight: 600; }

@@ -7,7 +7,7 @@ import shlex
 
 from .base import display_path
 from .checks import problem_html, problem_md, render_problems
-from .flags import recipe_args
+from .flags import FILE_FLAGS, recipe_args
 
 
 def fmt_value(field, v):
@@ -41,6 +41,12 @@ def shown_command(r, binary):
         elif a == "--stats-json":
             out += ["--stats-json", f"{r.name}.json"]
             i += 2
+        elif a in FILE_FLAGS and i + 1 < len(argv):
+            out += [a, display_path(argv[i + 1])]  # -e and -c files relative to the repository, like the scene
+            i += 2
+        elif a == "--env-probability":
+            out += ["--env-probability", f"{r.name}_env_probability.png"]
+            i += 2
         else:
             out.append(a)
             i += 1
@@ -55,6 +61,10 @@ def figure_info(r, img_dir_rel, binary):
             "command": shown_command(r, binary), "error": j.error,
             "image": f"{base}.png" if j.status != "failed" else None,
             "rate_image": f"{base}_rate.png" if j.status != "failed" and r.rate else None,
+            "env_probability_image": (f"{base}_env_probability.png" if j.status != "failed" and r.env_probability
+                                      else None),
+            "side_images": ([(f"{base}{suffix}.png", caption) for _, suffix, caption in r.side_images()]
+                            if j.status != "failed" else []),
             "render_seconds": j.stats.get("render_seconds") if j.stats else None,
             "wall_seconds": j.meta.get("wall_seconds") if j.meta else None,
             "threads": j.meta.get("threads") if j.meta else None,
@@ -67,16 +77,22 @@ def figure_info(r, img_dir_rel, binary):
 # ---------------------------------------------------------------------------
 # Grids
 
-def grid_figure_html(f, problems, rate):
-    """A figure's <figure> opening and image (the caption follows)."""
+def grid_figure_html(f, problems):
+    """A figure's <figure> opening and image (the caption follows); the images
+    shown beside the render (its sampling rate, where the map is sampled) side
+    by side with it."""
     label = html.escape(f["label"])
     if f["status"] == "failed":
         return (f"<figure class=\"failed\" data-status=\"failed\"><div class=\"placeholder\">render failed:<br>"
                 f"{html.escape(f['error'])}</div>\n")
     img = f"<a href=\"{f['image']}\"><img src=\"{f['image']}\" alt=\"{label}\"></a>"
-    if rate:
-        img = (f"<div class=\"pair\">{img}<a href=\"{f['rate_image']}\"><img src=\"{f['rate_image']}\" "
-               f"alt=\"{label}: sampling rate\"></a><span>render</span><span>sampling rate</span></div>")
+    sides = f["side_images"]
+    if sides:
+        img = (f"<div class=\"pair\" style=\"--n: {1 + len(sides)}\">{img}"
+               + "".join(f"<a href=\"{src}\"><img src=\"{src}\" alt=\"{label}: {html.escape(caption)}\"></a>"
+                         for src, caption in sides)
+               + "<span>render</span>" + "".join(f"<span>{html.escape(caption)}</span>" for _, caption in sides)
+               + "</div>")
     if not problems:
         return f"<figure data-status=\"ok\">{img}\n"
     kinds = " ".join(dict.fromkeys(k for k, _ in problems))
@@ -86,13 +102,13 @@ def grid_figure_html(f, problems, rate):
             + f"</ul></div>{img}\n")
 
 
-def grid_figure_md(f, problems, rate, timing):
+def grid_figure_md(f, problems, timing):
     """A figure's Markdown table cell."""
     if f["status"] == "failed":
         return f"**{f['label']}**<br>FAILED: {f['error']}<br>`{f['command']}`"
     imgs_md = f"![{f['label']}]({f['image']})"
-    if rate:
-        imgs_md += f" ![{f['label']}: sampling rate]({f['rate_image']})"
+    for src, caption in f["side_images"]:
+        imgs_md += f" ![{f['label']}: {caption}]({src})"
     warn_md = ("**⚠ Check this figure:** " + "; ".join(problem_md(k, t) for k, t in problems) + "<br>"
                if problems else "")
     return f"{warn_md}{imgs_md}<br>**{f['label']}** ({timing})<br>`{f['command']}`"
@@ -113,11 +129,12 @@ def page_grid(grid, h, md, figures, img_rel, binary):
     for r in grid["renders"]:
         f = figure_info(r, img_rel, binary)
         f["rate"] = grid["rate"]
+        f["env_probability"] = grid["env_probability"]
         figures.append(f)
         problems = render_problems(r) if f["status"] != "failed" else []
         timing = figure_timing(f)
-        h.append(grid_figure_html(f, problems, grid["rate"]))
-        cells_md.append(grid_figure_md(f, problems, grid["rate"], timing))
+        h.append(grid_figure_html(f, problems))
+        cells_md.append(grid_figure_md(f, problems, timing))
         h.append(f"<figcaption><span class=\"label\">{html.escape(f['label'])}</span> "
                  f"<span class=\"time\">{html.escape(timing)}</span>"
                  f"<code>{html.escape(f['command'])}</code></figcaption></figure>\n")

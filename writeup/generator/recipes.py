@@ -15,7 +15,7 @@ SETTINGS_KEYS = frozenset({"title", "scenes_dir", "size", "seed", "quick_size",
                            "quick_max_samples", "quick_max_light_samples"})
 SECTION_KEYS = frozenset({"id", "title", "text", "grid", "table"})
 GRID_KEYS = frozenset({"id", "title", "text", "scene", "args", "size", "quick_size", "seed",
-                       "columns", "rate", "vary", "cells", "expect_black"})
+                       "columns", "rate", "env_probability", "vary", "cells", "expect_black"})
 CELL_KEYS = frozenset({"label", "name", "scene", "args", "size", "quick_size", "seed", "expect_black"})
 VARY_KEYS = frozenset({"flag", "values"})
 TABLE_KEYS = frozenset({"id", "title", "text", "scene", "scenes", "args", "size", "quick_size",
@@ -54,6 +54,14 @@ def slug(text):
     return s or "render"
 
 
+# The images a grid may show beside each render: (recipe field, the file
+# in the render's cache entry, the suffix of the figure's copy, caption).
+SIDE_IMAGES = (
+    ("rate", "render_rate.png", "_rate", "sampling rate"),
+    ("env_probability", "render_env_probability.png", "_env_probability", "where the map is sampled"),
+)
+
+
 class Render:
     """One image of the page (a grid cell or a table entry)."""
 
@@ -61,7 +69,12 @@ class Render:
         self.__dict__.update(kw)
         self.job = None
         self.rate = False
+        self.env_probability = False
         self.expect_black = False
+
+    def side_images(self):
+        """The (cache file, figure file suffix, caption) of each image shown beside the render."""
+        return [(f, suffix, caption) for field, f, suffix, caption in SIDE_IMAGES if getattr(self, field)]
 
 
 class Recipes:
@@ -206,11 +219,12 @@ class Recipes:
         base, size, qsize, seed = self._shared_fields(g, where)
         columns = want(g.get("columns", 0), int, where, "columns")
         rate = want(g.get("rate", False), bool, where, "rate")
+        env_probability = want(g.get("env_probability", False), bool, where, "env_probability")
         black = g.get("expect_black", False)
         self._expect_black(black, where)
         grid = {"kind": "grid", "id": gid, "title": want(g.get("title", gid), str, where, "title"),
                 "text": want(g.get("text", ""), str, where, "text"),
-                "rate": rate, "renders": []}
+                "rate": rate, "env_probability": env_probability, "renders": []}
         names = set()
         for n, c in enumerate(self._grid_cells(g, where), 1):
             cw = f"{where}, cell {n}"
@@ -224,9 +238,14 @@ class Recipes:
             cseed = want(c.get("seed", seed), int, cw, "seed")
             r = self._render(cw, gid, name, label, c.get("scene", g.get("scene")), flags, csize, cqsize, cseed)
             r.rate = rate
+            r.env_probability = env_probability
+            if env_probability and get_flag(flags, "-e") is None:
+                raise InputError(f"{cw}: 'env_probability' shows where the environment map is sampled: "
+                                 f"the render needs -e")
             r.expect_black = self._expect_black(c.get("expect_black", black), cw)
             grid["renders"].append(r)
-        grid["columns"] = columns if columns > 0 else min(len(grid["renders"]), 4 if not grid["rate"] else 2)
+        sides = rate or env_probability
+        grid["columns"] = columns if columns > 0 else min(len(grid["renders"]), 2 if sides else 4)
         return grid
 
     @staticmethod

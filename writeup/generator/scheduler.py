@@ -12,7 +12,7 @@ import time
 
 from . import checks
 from .base import display_path
-from .cache import command_key
+from .cache import command_key, entry_images
 from .flags import get_flag, recipe_args
 
 
@@ -148,8 +148,10 @@ class Scheduler:
         r = job.proto
         job.threads = threads
         job.tmp = self.cache.new_entry(job.key)
+        extra = ["--env-probability", "render_env_probability.png"] if r.env_probability else []
         job.argv = ([self.binary] + recipe_args(r) + ["-t", str(threads), "--no-progress",
-                                                      "--stats-json", "render.json", "-f", "render.png", r.scene])
+                                                      "--stats-json", "render.json"] + extra
+                    + ["-f", "render.png", r.scene])
         job.log = open(os.path.join(job.tmp, "log.txt"), "wb")
         job.started = time.monotonic()
         try:
@@ -178,7 +180,7 @@ class Scheduler:
             error = f"pathtracer {'was killed by signal ' + str(-rc) if rc < 0 else 'exited with status ' + str(rc)}"
             last = last_line(os.path.join(job.tmp, "log.txt"))
             return error + (f": {last}" if last else "")
-        for f in ("render.png", "render.json"):
+        for f in entry_images(job.proto) + ["render.json"]:
             if not os.path.isfile(os.path.join(job.tmp, f)):
                 return f"pathtracer exited with status 0 but wrote no {f}"
         try:

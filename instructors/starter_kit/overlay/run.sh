@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# Install what is missing, build, render the default scene with your build,
-# list what is not implemented yet, then grade your build on every case.
+# Install what is missing, build the renderer and the grader (only those:
+# scripts/test.sh builds the tests, scripts/build.sh everything), render the
+# default scene with your build, list what is not implemented yet, then
+# grade your build on every case.
 # Arguments go to the grader, e.g. `scripts/run.sh --part 1` grades only
 # part 1's cases. Exit status: the grader's (0 when every case passed).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
-scripts/build.sh
+scripts/setup.sh --build-only
+scripts/build.sh pathtracer grader
 mkdir -p out
 threads=$(nproc 2>/dev/null || echo 2)
 image=out/CBspheres_lambertian.png

@@ -25,6 +25,13 @@ class Failure(Exception):
     pass
 
 
+def scaled_seconds(seconds):
+    """`seconds` times PT_TEST_TIMEOUT_SCALE (tests/timeout_scale/timeout_scale.py)."""
+    sys.path.insert(0, os.path.join(SOURCE, "tests", "timeout_scale"))
+    import timeout_scale
+    return timeout_scale.scaled_seconds(seconds)
+
+
 def expect(condition, message):
     if not condition:
         raise Failure(message)
@@ -108,7 +115,7 @@ def generate(files, tmp, modes=None):
     dest = os.path.join(tmp, "kit")
     shutil.rmtree(dest, ignore_errors=True)
     p = subprocess.run([sys.executable, os.path.join(tree, GENERATOR_DIR, "make_starter_kit.py"), dest],
-                       capture_output=True, text=True, timeout=60)
+                       capture_output=True, text=True, timeout=scaled_seconds(60))
     return Run(p.returncode, p.stdout, p.stderr, dest)
 
 

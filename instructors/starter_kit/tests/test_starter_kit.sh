@@ -1,30 +1,58 @@
 #!/usr/bin/env bash
-# The starter kit, end to end: generate it from this tree, check that it
-# holds no solution code and the students' documents, build it, check that
-# it renders, that its scripts/run.sh grades it, and that its part tests
-# fail saying what to implement; then put the reference's stages back and
-# check that all its tests pass.
-#   test_starter_kit.sh SOURCE_DIR WORK_DIR COURSE_SCENES
+# The starter kit, end to end, in steps that share one generated kit and
+# one build of it in WORK_DIR (ctest runs each step as a test of its own,
+# instructors/starter_kit/CMakeLists.txt):
+#   generate            write the kit (WORK_DIR/kit) from this tree
+#   no_solution_code    no solution markers, no solution line, no
+#                       instructors' or reference-only file in the kit
+#   students_documents  the students' README, grader README and run.sh; no
+#                       link to what the kit does not hold; no instructor-only name
+#   build               configure the kit and build every target, with the
+#                       stubs students get
+#   renders             its pathtracer renders and names the missing function
+#   run_sh              its scripts/run.sh renders, lists what is missing and
+#                       grades (and with --part 1 grades part 1 alone)
+#   part_tests          its part tests fail naming what to implement; nothing crashes
+#   reference_stages    with the reference's stages put back, every kit test
+#                       passes (this changes the kit: it comes last)
+#
+#   test_starter_kit.sh [--step STEP] SOURCE_DIR WORK_DIR COURSE_SCENES
+# Without --step, every step in this order. The timeouts it gives are
+# multiplied by PT_TEST_TIMEOUT_SCALE (tests/timeout_scale/timeout_scale.sh).
 set -euo pipefail
+steps=(generate no_solution_code students_documents build renders run_sh part_tests reference_stages)
+if [ "${1:-}" = --step ]; then
+  steps=("$2")
+  shift 2
+fi
+[ $# -eq 3 ] || { echo "usage: test_starter_kit.sh [--step STEP] SOURCE_DIR WORK_DIR COURSE_SCENES" >&2; exit 2; }
 src=$1 work=$2 course=$3
+kit=$work/kit
 jobs=$(nproc 2>/dev/null || echo 2)
-rm -rf "$work"
-mkdir -p "$(dirname "$work")"
+. "$src/tests/timeout_scale/timeout_scale.sh"
 
 fail() { echo "FAIL: $*"; exit 1; }
+need_kit() { [ -f "$kit/CMakeLists.txt" ] || fail "no kit in $kit: run the generate step first"; }
+need_build() { [ -x "$kit/build/bin/pathtracer" ] || fail "no build of the kit in $kit/build: run the build step first"; }
 
-"$src/instructors/starter_kit/make_starter_kit.py" "$work/kit" || fail "the kit generator failed"
-kit=$work/kit
+step_generate() {
+  rm -rf "$work"
+  mkdir -p "$work"
+  "$src/instructors/starter_kit/make_starter_kit.py" "$kit" || fail "the kit generator failed"
+  echo "PASS: kit generated in $kit"
+}
 
 # No solution code: no markers or stub comments left in any C++ file, no
 # reference-only file, no instructor-only file, and no line of a solution
 # (one that the reference has nowhere outside its solution regions).
-grep -rlE --include="*.cpp" --include="*.h" "(BEGIN|END) SOLUTION|// STUB:" "$kit" \
-  && fail "solution markers left in the kit"
-for gone in .ci instructors; do
-  [ -e "$kit/$gone" ] && fail "the kit holds $gone/, which is for instructors only"
-done
-python3 - "$src" "$kit" <<'PY' || fail "solution code in the kit"
+step_no_solution_code() {
+  need_kit
+  grep -rlE --include="*.cpp" --include="*.h" --exclude-dir=build --exclude-dir=out "(BEGIN|END) SOLUTION|// STUB:" "$kit" \
+    && fail "solution markers left in the kit"
+  for gone in .ci instructors; do
+    [ -e "$kit/$gone" ] && fail "the kit holds $gone/, which is for instructors only"
+  done
+  python3 - "$src" "$kit" <<'PY' || fail "solution code in the kit"
 import os, re, sys
 src, kit = sys.argv[1:]
 def sources(root):
@@ -54,7 +82,8 @@ for path in sources(src):
 evidence = {l for l in solution - outside if len(l) >= 12 and len(re.findall(r"\w+", l)) >= 3}
 if len(evidence) < 100:
     sys.exit(f"only {len(evidence)} solution lines found in {src}: is this the reference tree?")
-for d, _, names in os.walk(kit):
+for d, dirs, names in os.walk(kit):
+    dirs[:] = [x for x in dirs if not (d == kit and x in ("build", "out"))]
     for n in names:
         if n.endswith((".h", ".cpp", ".md", ".sh", ".py", ".txt")):
             path = os.path.join(d, n)
@@ -62,19 +91,25 @@ for d, _, names in os.walk(kit):
                 if l.strip() in evidence:
                     sys.exit(f"{os.path.relpath(path, kit)}:{number}: solution line: {l.strip()}")
 PY
+  echo "PASS: no solution code, no instructors' or reference-only file in the kit"
+}
 
 # The students' documents: their own README and grader README and run.sh,
 # and no Markdown link to something the kit does not hold.
-cmp -s "$kit/README.md" "$src/instructors/starter_kit/overlay/README.md" || fail "the kit's README.md is not the students' (instructors/starter_kit/overlay/README.md)"
-cmp -s "$kit/grader/README.md" "$src/instructors/starter_kit/overlay/grader_README.md" || fail "the kit's grader/README.md is not the students'"
-grep -q "Rendered with your build" "$kit/scripts/run.sh" || fail "the kit's scripts/run.sh does not say 'your build'"
-grep -q "Grading the reference build" "$kit/scripts/run.sh" && fail "the kit's scripts/run.sh speaks of the reference build"
-python3 - "$kit" <<'PY' || fail "broken links in the kit's Markdown files"
+step_students_documents() {
+  need_kit
+  cmp -s "$kit/README.md" "$src/instructors/starter_kit/overlay/README.md" \
+    || fail "the kit's README.md is not the students' (instructors/starter_kit/overlay/README.md)"
+  cmp -s "$kit/grader/README.md" "$src/instructors/starter_kit/overlay/grader_README.md" \
+    || fail "the kit's grader/README.md is not the students'"
+  grep -q "Rendered with your build" "$kit/scripts/run.sh" || fail "the kit's scripts/run.sh does not say 'your build'"
+  grep -q "Grading the reference build" "$kit/scripts/run.sh" && fail "the kit's scripts/run.sh speaks of the reference build"
+  python3 - "$kit" <<'PY' || fail "broken links in the kit's Markdown files"
 import os, re, sys
 kit = sys.argv[1]
 bad = []
 for d, dirs, names in os.walk(kit):
-    dirs[:] = [x for x in dirs if not (d == kit and x == "build")]
+    dirs[:] = [x for x in dirs if not (d == kit and x in ("build", "out"))]
     for n in names:
         if not n.endswith(".md"):
             continue
@@ -88,26 +123,47 @@ for d, dirs, names in os.walk(kit):
 if bad:
     sys.exit("links to what the kit does not hold:\n  " + "\n  ".join(bad))
 PY
-grep -rnE "instructors/|gradescope/|grade_mutants|mutants\.txt|mutants/|make_starter_kit|starter_kit/|fuzz_|fake_student|compare_embree|bvh_table\.sh|ray_bench" \
-  --include="*.md" "$kit" && fail "the kit's documents mention instructor-only files"
+  grep -rnE "instructors/|gradescope/|grade_mutants|mutants\.txt|mutants/|make_starter_kit|starter_kit/|fuzz_|fake_student|compare_embree|bvh_table\.sh|ray_bench" \
+    --include="*.md" --exclude-dir=build --exclude-dir=out "$kit" && fail "the kit's documents mention instructor-only files"
+  echo "PASS: the students' README, grader README and run.sh; every link resolves; no instructor-only name"
+}
 
-cmake -S "$kit" -B "$kit/build" -DCMAKE_BUILD_TYPE=Release -DPT_COURSE_SCENES="$course" >/dev/null \
-  || fail "the kit does not configure"
-cmake --build "$kit/build" -j "$jobs" >"$work/build.log" 2>&1 || { tail -30 "$work/build.log"; fail "the kit does not build"; }
+# Every target, as students build it with scripts/test.sh: the stubs must
+# compile and link into everything.
+step_build() {
+  need_kit
+  rm -rf "$kit/build"
+  cmake -S "$kit" -B "$kit/build" -DCMAKE_BUILD_TYPE=Release -DPT_COURSE_SCENES="$course" >/dev/null \
+    || fail "the kit does not configure"
+  cmake --build "$kit/build" -j "$jobs" >"$work/build.log" 2>&1 || { tail -30 "$work/build.log"; fail "the kit does not build"; }
+  echo "PASS: the kit as handed out builds every target"
+}
 
 # It runs and writes an image, saying which functions are missing.
-"$kit/build/bin/pathtracer" --part 1 -r 32 24 -f "$work/kit.png" "$src/scenes/CBspheres_lambertian.dae" \
-  >"$work/run.out" 2>"$work/run.err" || fail "the kit's pathtracer --part 1 failed: $(cat "$work/run.err")"
-[ -s "$work/kit.png" ] || fail "the kit's pathtracer wrote no image"
-grep -q "TODO: implement Part 1: generate_ray" "$work/run.err" || fail "no 'implement generate_ray' message"
+step_renders() {
+  need_build
+  rm -f "$work/kit.png"
+  "$kit/build/bin/pathtracer" --part 1 -r 32 24 -f "$work/kit.png" "$src/scenes/CBspheres_lambertian.dae" \
+    >"$work/run.out" 2>"$work/run.err" || fail "the kit's pathtracer --part 1 failed: $(cat "$work/run.err")"
+  [ -s "$work/kit.png" ] || fail "the kit's pathtracer wrote no image"
+  grep -q "TODO: implement Part 1: generate_ray" "$work/run.err" || fail "no 'implement generate_ray' message"
+  echo "PASS: the kit's pathtracer renders and names generate_ray"
+}
 
 # Its main script, on the unfinished kit: renders with the student's build,
 # lists what is not implemented, grades the build on every case (each stops
 # at its first TODO line) and says where the report is (exit status 1: cases
-# fail); with arguments it grades only the cases they select. Skipped where
-# packages are missing, as the script would stop to ask for them.
-if "$kit/scripts/setup.sh" >/dev/null 2>&1; then
-  status=0
+# fail); with arguments it grades only the cases they select. Skipped (exit
+# 77) where packages are missing, as the script would stop to ask for them.
+step_run_sh() {
+  need_build
+  if ! "$kit/scripts/setup.sh" --build-only >"$work/setup.log" 2>&1; then
+    cat "$work/setup.log"
+    echo "SKIPPED: packages are missing (scripts/setup.sh --build-only), so the kit's scripts/run.sh cannot run"
+    exit 77
+  fi
+  rm -rf "$kit/out"
+  local status=0
   (cd "$kit" && scripts/run.sh --part 1) >"$work/run_sh_part1.log" 2>&1 || status=$?
   [ "$status" -eq 1 ] || { tail -20 "$work/run_sh_part1.log"; fail "scripts/run.sh --part 1 exited $status, expected 1"; }
   grep -qE "^ +1 +p1_" "$work/run_sh_part1.log" && ! grep -qE "^ +[2-5] +p[2-5]_" "$work/run_sh_part1.log" \
@@ -125,30 +181,55 @@ if "$kit/scripts/setup.sh" >/dev/null 2>&1; then
     || fail "the kit's grading does not say that part 1 is not implemented"
   [ -s "$kit/out/CBspheres_lambertian.png" ] && [ -s "$kit/out/grade/report.html" ] \
     || fail "the kit's scripts/run.sh wrote no image or no report"
-else
-  echo "note: packages missing (scripts/setup.sh), so the kit's scripts/run.sh was not run"
-fi
+  echo "PASS: the kit's scripts/run.sh renders, lists what is missing, grades (part 1 alone with --part 1)"
+}
 
 # Its part tests fail, and the failures name the function to write.
-for part in 1 2 3 4 5; do
-  # The first failure is enough to see the message; stopping there keeps
-  # this check short (stubbed parts brute-force everything and run slowly).
-  if ctest --test-dir "$kit/build" -L "part$part" --output-on-failure --stop-on-failure --timeout 300 \
-       >"$work/part$part.log" 2>&1; then
-    fail "the kit's part $part tests pass with stubs"
-  fi
-  # A part's tests name the first missing function on their path (for part 3
-  # that is a part 1 function until part 1 is done), and nothing crashes.
-  grep -q "TODO: implement Part" "$work/part$part.log" || fail "part $part failures do not say what to implement"
-  grep -qE "SEGFAULT|Child aborted|Subprocess aborted|Exception: |Timeout" "$work/part$part.log" \
-    && fail "part $part tests crashed or hung with the stubs"
-done
+step_part_tests() {
+  need_build
+  local part limit
+  limit=$(scaled_seconds 300)
+  for part in 1 2 3 4 5; do
+    # The first failure is enough to see the message; stopping there keeps
+    # this check short (stubbed parts brute-force everything and run slowly).
+    if ctest --test-dir "$kit/build" -L "part$part" --output-on-failure --stop-on-failure --timeout "$limit" \
+         >"$work/part$part.log" 2>&1; then
+      fail "the kit's part $part tests pass with stubs"
+    fi
+    # A part's tests name the first missing function on their path (for part 3
+    # that is a part 1 function until part 1 is done), and nothing crashes.
+    grep -q "TODO: implement Part" "$work/part$part.log" || fail "part $part failures do not say what to implement"
+    grep -qE "SEGFAULT|Child aborted|Subprocess aborted|Exception: |Timeout" "$work/part$part.log" \
+      && fail "part $part tests crashed or hung with the stubs"
+  done
+  echo "PASS: each part's tests fail with the stubs, naming what to implement; nothing crashes"
+}
 
 # With the reference's stages the kit is the reference: everything passes.
-rm -rf "$kit/stages"
-cp -r "$src/stages" "$kit/stages"
-cmake --build "$kit/build" -j "$jobs" >"$work/build2.log" 2>&1 || { tail -30 "$work/build2.log"; fail "rebuild with the reference stages failed"; }
-ctest --test-dir "$kit/build" -j "$jobs" -E "scenes_up_to_date|starter_kit" >"$work/reference.log" 2>&1 \
-  || { grep -E "Failed|\*\*\*" "$work/reference.log" | head -20; fail "the kit with the reference's stages fails tests"; }
-echo "PASS: kit generated without solution code, with the students' documents; builds, runs, grades, names its"
-echo "      missing functions; with the reference stages all tests pass"
+step_reference_stages() {
+  need_build
+  # Only the files that differ are replaced (and the reference-only ones
+  # added): a file copied unchanged would get a new time and make would
+  # recompile everything that includes it.
+  local f
+  (cd "$src/stages" && find . -type f) | while IFS= read -r f; do
+    cmp -s "$src/stages/$f" "$kit/stages/$f" || { mkdir -p "$(dirname "$kit/stages/$f")" && cp "$src/stages/$f" "$kit/stages/$f"; }
+  done
+  (cd "$kit/stages" && find . -type f) | while IFS= read -r f; do
+    [ -e "$src/stages/$f" ] || rm "$kit/stages/$f"
+  done
+  diff -r "$src/stages" "$kit/stages" >/dev/null || fail "the kit's stages/ could not be made the reference's"
+  cmake --build "$kit/build" -j "$jobs" >"$work/build2.log" 2>&1 \
+    || { tail -30 "$work/build2.log"; fail "rebuild with the reference stages failed"; }
+  ctest --test-dir "$kit/build" -j "$jobs" >"$work/reference.log" 2>&1 \
+    || { grep -E "Failed|\*\*\*" "$work/reference.log" | head -20; fail "the kit with the reference's stages fails tests"; }
+  echo "PASS: with the reference's stages every test of the kit passes"
+}
+
+for step in "${steps[@]}"; do
+  case "$step" in
+    generate | no_solution_code | students_documents | build | renders | run_sh | part_tests | reference_stages)
+      "step_$step" ;;
+    *) echo "test_starter_kit.sh: no step '$step'" >&2; exit 2 ;;
+  esac
+done

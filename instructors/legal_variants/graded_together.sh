@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# The catalogues' check in the test suite, small enough to run every time:
+# several legal variants planted together in one copy of the tree (they
+# touch different places, and correct code combined is still correct) must
+# score full marks, and a mutant planted on top of them must still lose
+# points. One copy, one build of its pathtracer, one incremental rebuild.
+#
+#   instructors/legal_variants/graded_together.sh WORK [--variant NAME]... [--mutant NAME] [-- GRADER_RUN_ARGS...]
+#
+# Exit 0 when the variants' build passes every graded case and the mutant's
+# (if any) loses points; 1 otherwise, with the grader's table; 2 for bad
+# usage, a patch that does not apply or a build that fails.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+root=$(pwd)
+[ $# -ge 1 ] || { sed -n '2,13p' "$0"; exit 2; }
+work=$(realpath -m "$1")
+shift
+variants=() mutant="" grader_args=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --variant) variants+=("$2"); shift 2 ;;
+    --mutant) mutant=$2; shift 2 ;;
+    --) shift; grader_args=("$@"); break ;;
+    *) echo "graded_together.sh: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+grader="$root/build/bin/grader"
+[ -x "$grader" ] || { echo "graded_together.sh: build the grader first (scripts/build.sh)" >&2; exit 2; }
+
+# The shared machinery's tree copy and patch application.
+tool=graded_together.sh noun=patch list=/dev/null patches=/dev/null
+# shellcheck source=../patch_catalogue.sh
+source instructors/patch_catalogue.sh
+
+src="$work/src"
+copy_tree "$src"
+for v in "${variants[@]}"; do
+  apply_patch "$src" "$root/instructors/legal_variants/patches/$v.patch" \
+    || { echo "graded_together.sh: variant $v does not apply on top of the others" >&2; exit 2; }
+done
+build() {
+  [ -f "$work/build/CMakeCache.txt" ] ||
+    cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_TESTS=OFF > "$work/configure.log" 2>&1
+  cmake --build "$work/build" -j "$(nproc 2>/dev/null || echo 2)" --target pathtracer > "$work/build.log" 2>&1 ||
+    { tail -20 "$work/build.log"; echo "graded_together.sh: the build failed ($work/build.log)" >&2; exit 2; }
+}
+build
+status=0
+echo "== legal variants together: ${variants[*]:-none}"
+if "$grader" run -q --pathtracer "$work/build/bin/pathtracer" -o "$work/variants.grade" "${grader_args[@]}" \
+     > "$work/variants.log" 2>&1; then
+  echo "   full marks"
+else
+  cat "$work/variants.log"
+  echo "graded_together.sh: the legal variants lost points (see above)" >&2
+  status=1
+fi
+if [ -n "$mutant" ]; then
+  apply_patch "$src" "$root/instructors/mutants/patches/$mutant.patch" \
+    || { echo "graded_together.sh: mutant $mutant does not apply on top of the variants" >&2; exit 2; }
+  build
+  echo "== mutant $mutant on top of them"
+  if "$grader" run -q --pathtracer "$work/build/bin/pathtracer" -o "$work/mutant.grade" "${grader_args[@]}" \
+       > "$work/mutant.log" 2>&1; then
+    cat "$work/mutant.log"
+    echo "graded_together.sh: mutant $mutant was not caught" >&2
+    status=1
+  else
+    grep -E "cases passed; score" "$work/mutant.log" | sed 's/^/   caught: /'
+  fi
+fi
+exit $status

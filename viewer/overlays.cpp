@@ -8,6 +8,8 @@
 #include "common/image_io.h"
 #include "grader/src/pictures.h"
 #include "grader/src/reference.h"
+#include "grader/src/signature.h"
+#include "common/json.h"
 #include "viewer/requests.h"
 
 namespace pt::viewer {
@@ -87,7 +89,8 @@ std::string difference_pending(const Frame& f, const RenderOptions& opts, const 
 }
 
 Difference difference_overlay(const Frame& f, const RenderOptions& opts, const ViewerCase& vc,
-                              const std::string& reference_dir) {
+                              const std::string& reference_dir, const grader::Catalogue& catalogue,
+                              const grader::CaseGroups& groups) {
   const std::string& name = vc.c.name;
   RenderOptions shown = opts;
   shown.samples_per_pixel = f.samples;
@@ -111,7 +114,33 @@ Difference difference_overlay(const Frame& f, const RenderOptions& opts, const V
   d.picture.rgb = std::vector<uint8_t>(pic.rgb.begin(), pic.rgb.end());
   d.picture.scale = threshold;
   d.verdict = (sc.passed ? "matches the reference: " : "differs from the reference: ") + sc.summary();
+  d.differs = !sc.passed;
+  d.hints_known = !catalogue.bugs.empty();
+  if (d.differs && d.hints_known) {
+    // The case's signature as grade_case records it for a failed image.
+    grader::CaseSignature figures;
+    figures.failed = true;
+    figures.figures = grader::image_signature(mine, ref.mean, sc);
+    figures.figures["failed_image"] = 1;
+    d.hints = grader::likely_bugs_for_case(name, figures, catalogue, groups);
+  }
   return d;
+}
+
+std::string hints_json(const Difference& d) {
+  std::string s = "{\"hints\":[";
+  for (size_t i = 0; i < d.hints.size(); ++i) {
+    const grader::KnownBug& bug = *d.hints[i].bug;
+    auto [readme, section] = grader::readme_section(bug.readme);
+    // A Markdown heading's `code` marks are not words.
+    section.erase(std::remove(section.begin(), section.end(), '`'), section.end());
+    s += std::string(i ? "," : "") + "{\"text\":" + json_quote(d.hints[i].words) +
+         ",\"function\":" + json_quote(bug.function) + ",\"file\":" + json_quote(bug.file) +
+         ",\"readme\":" + json_quote(readme) + ",\"section\":" + json_quote(section) + "}";
+  }
+  s += "]";
+  if (d.differs && d.hints_known && d.hints.empty()) s += std::string(",\"note\":") + json_quote(grader::kNoHintClose);
+  return s + "}";
 }
 
 }  // namespace pt::viewer

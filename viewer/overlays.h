@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "grader/src/hints.h"
 #include "pathtracer/options.h"
 #include "viewer/viewer_cases.h"
 #include "viewer/workers.h"
@@ -42,14 +43,27 @@ std::string difference_pending(const Frame& f, const RenderOptions& opts, const 
 
 // The grader's comparison of frame `f` of a job run with `opts` against
 // case `vc`'s reference in `reference_dir`: |z| per pixel (black to white
-// at the threshold, red beyond), scale the threshold, and the verdict.
+// at the threshold, red beyond), scale the threshold, and the verdict;
+// when the render differs, the known bugs of `catalogue` nearest to it on
+// this case (grader/src/hints.h, as `grader compare` names them).
 // Throws BadRequest when the render is not the case's (409), the
 // reference is missing (404) or the image has NaN or infinite pixels (422).
 struct Difference {
   Overlay picture;
   std::string verdict;
+  bool differs = false;
+  std::vector<grader::Hint> hints;  // nearest first; point into the catalogue
+  bool hints_known = false;         // the catalogue had bugs to compare with
 };
 Difference difference_overlay(const Frame& f, const RenderOptions& opts, const ViewerCase& vc,
-                              const std::string& reference_dir);
+                              const std::string& reference_dir, const grader::Catalogue& catalogue,
+                              const grader::CaseGroups& groups);
+
+// The likely causes as the page reads them: {"hints": [{"text": the bug's
+// words with the render's figures, "function", "file", "readme": the
+// README's path, "section": its section in plain words}, ...]}, with
+// "note": the line that no known bug is close when the render differs and
+// none is. Empty "hints" and no note when it matches.
+std::string hints_json(const Difference& d);
 
 }  // namespace pt::viewer

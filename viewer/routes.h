@@ -33,6 +33,8 @@ struct App {
   std::string temp_dir;
   std::atomic<uint64_t> camera_files{0};
   std::vector<ViewerCase> cases;
+  grader::Catalogue catalogue;  // the known bugs, for the difference's likely causes
+  grader::CaseGroups case_groups;
   int port = 0;  // the port it listens on, once bound
   std::atomic<int> waiting_polls{0};  // status requests waiting now
   // Held while a frame is converted into an image for the page or a PNG,

@@ -348,7 +348,8 @@ void add_render_routes(httplib::Server& svr, App& app) {
     res.set_header("Cache-Control", "no-store");
   }));
   // The grader's comparison of the job's image with a case's reference
-  // (overlays.h), the grader's summary in X-Summary.
+  // (overlays.h), the grader's summary in X-Summary and the likely causes
+  // (hints_json) in X-Hints.
   svr.Get("/api/diff", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto [job, f] = job_frame(app, req);
     const std::string name = req.get_param_value("case");
@@ -365,12 +366,14 @@ void add_render_routes(httplib::Server& svr, App& app) {
       return send_json(res, "{\"pending\":" + json_quote(pending) + "}", 202);
     }
     std::unique_lock<std::mutex> one(app.converting);
-    Difference d = difference_overlay(*f, job->opts, *vc, app.cfg.source_dir + "/reference_images");
+    Difference d = difference_overlay(*f, job->opts, *vc, app.cfg.source_dir + "/reference_images", app.catalogue,
+                                      app.case_groups);
     one.unlock();
     send_bytes(res, std::move(d.picture.rgb), "application/octet-stream");
     set_image_headers(res, *f);
     res.set_header("X-Scale", num(d.picture.scale));
     res.set_header("X-Summary", d.verdict);
+    res.set_header("X-Hints", hints_json(d));
   }));
   svr.Get("/api/png", guarded([&app](const httplib::Request& req, httplib::Response& res) {
     auto [job, f] = job_frame(app, req);
@@ -419,6 +422,12 @@ int run_server(ServerConfig cfg) {
   App app(std::move(cfg));
   const ServerConfig& c = app.cfg;
   app.cases = load_cases(c.source_dir, c.files);
+  app.catalogue = load_catalogue(c.source_dir);
+  {
+    std::vector<grader::Case> cases;
+    for (const ViewerCase& vc : app.cases) cases.push_back(vc.c);
+    app.case_groups = grader::case_groups(cases);
+  }
   {
     char tmpl[] = "/tmp/pt-viewer-XXXXXX";
     if (!::mkdtemp(tmpl)) {

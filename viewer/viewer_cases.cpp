@@ -1,5 +1,8 @@
 #include "viewer/viewer_cases.h"
 
+#include <cstdio>
+#include <filesystem>
+
 #include "viewer/requests.h"
 
 namespace pt::viewer {
@@ -29,6 +32,18 @@ std::vector<ViewerCase> load_cases(const std::string& source_dir, const FileAcce
     out.push_back(v);
   }
   return out;
+}
+
+grader::Catalogue load_catalogue(const std::string& source_dir) {
+  const std::string path = source_dir + "/grader/known_bugs.json";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return {};
+  try {
+    return grader::read_catalogue(path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "viewer: warning: %s (the difference overlay names no likely causes)\n", e.what());
+    return {};
+  }
 }
 
 const ViewerCase* find_case(const std::vector<ViewerCase>& cases, const std::string& name) {

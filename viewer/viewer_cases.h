@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "grader/src/case_list.h"
+#include "grader/src/hints.h"
 #include "viewer/file_access.h"
 #include "pathtracer/options.h"
 
@@ -21,6 +22,11 @@ struct ViewerCase {
 // The image cases of grader/cases.txt under `source_dir` (none when it
 // cannot be read).
 std::vector<ViewerCase> load_cases(const std::string& source_dir, const FileAccess& files);
+
+// The known bugs of grader/known_bugs.json under `source_dir`, for the
+// difference overlay's likely causes: none when the file is missing, and
+// a warning on stderr as well when it cannot be read.
+grader::Catalogue load_catalogue(const std::string& source_dir);
 
 // The case named `name`, or null.
 const ViewerCase* find_case(const std::vector<ViewerCase>& cases, const std::string& name);

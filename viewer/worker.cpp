@@ -19,6 +19,7 @@
 #include "stages/part2_bvh/bvh.h"
 #include "stages/part1_raytracing/camera_rays.h"
 #include "common/collada.h"
+#include "common/math_constants.h"
 #include "viewer/debug_api.h"
 #include "viewer/debugger/debugger.h"
 #include "pathtracer/options.h"
@@ -87,7 +88,9 @@ void write_message(const std::string& head, const std::vector<uint8_t>& payload)
 // =hang loops for ever in the middle of a render with
 // --seed 15 (and in every Debug mode call with --seed 15); =todo prints a
 // stub's TODO line; =gate starts each pass after the first only once the
-// file $PT_VIEWER_GATE<pass> exists.
+// file $PT_VIEWER_GATE<pass> exists; =pi sends every frame's radiance
+// times pi (what a diffuse BSDF that leaves out the division by pi gives
+// under direct light).
 std::string planted() {
   const char* v = std::getenv("PT_VIEWER_PLANT");
   return v ? v : "";
@@ -190,7 +193,16 @@ int run_render(const RenderOptions& base) {
   hooks.pass_done = [&](int pass, const RenderOptions& o, const RenderResult& r, uint64_t traced, uint64_t reused) {
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const size_t bytes = size_t(w) * h * 20;
-    write_frame("FRAME " + frame_json(o, pass, r, elapsed, traced, reused, bytes) + "\n", r.image, tests, rays);
+    const ImageBuffer* image = &r.image;
+#ifdef PT_VIEWER_PLANTS
+    ImageBuffer brighter;
+    if (planted() == "pi") {
+      brighter = r.image;
+      for (Color& c : brighter.pixels) c = c * kPi;
+      image = &brighter;
+    }
+#endif
+    write_frame("FRAME " + frame_json(o, pass, r, elapsed, traced, reused, bytes) + "\n", *image, tests, rays);
     // From the second pass on, the maps add up the jittered samples only.
     if (pass == 0) {
       std::fill(tests.begin(), tests.end(), 0.0f);

@@ -162,11 +162,22 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
   return exit_code_for(results);
 }
 
-std::vector<std::string> run_hints(const Common& common, const std::vector<CaseResult>& results) {
+Catalogue hint_catalogue(const Common& common) {
   std::error_code ec;
   if (!fs::is_regular_file(common.catalogue, ec)) return {};
   try {
-    return hint_lines(results, read_catalogue(common.catalogue), case_groups(read_cases(common.cases)));
+    return read_catalogue(common.catalogue);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "grader: no hints: %s\n", e.what());
+    return {};
+  }
+}
+
+std::vector<std::string> run_hints(const Common& common, const std::vector<CaseResult>& results) {
+  const Catalogue catalogue = hint_catalogue(common);
+  if (catalogue.bugs.empty()) return {};
+  try {
+    return hint_lines(results, catalogue, case_groups(read_cases(common.cases)));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grader: no hints: %s\n", e.what());
     return {};
@@ -252,7 +263,9 @@ int command_compare(const Common& common, bool list, const std::string& name, co
   if (name.empty() || files.empty())
     throw std::runtime_error("compare: give a case and your render (grader compare CASE FILE), or --list");
   for (const Case& c : cases)
-    if (c.name == name) return compare_render(c, common.references, files, out, make_rules(cases, common.references));
+    if (c.name == name)
+      return compare_render(c, common.references, files, out, make_rules(cases, common.references),
+                            hint_catalogue(common), case_groups(cases));
   throw std::runtime_error(common.cases + ": no case named '" + name + "' (grader compare --list shows them)");
 }
 

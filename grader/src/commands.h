@@ -13,6 +13,7 @@
 
 #include "grader/src/case_list.h"
 #include "grader/src/case_result.h"
+#include "grader/src/hints.h"
 #include "grader/src/run_case.h"
 
 namespace grader {
@@ -70,6 +71,9 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
 // The report's hint lines for these results (none when the catalogue is
 // missing: hints are a help, not a verdict).
 std::vector<std::string> run_hints(const Common& common, const std::vector<CaseResult>& results);
+// The known bugs of --catalogue; empty (with a line on stderr when it is
+// malformed) when it cannot be read.
+Catalogue hint_catalogue(const Common& common);
 int command_hints(const Common& common, const std::string& table);
 int command_merge(const Common& common, const std::string& out, const std::vector<std::string>& shard_dirs);
 int command_compare(const Common& common, bool list, const std::string& name, const std::vector<std::string>& files,

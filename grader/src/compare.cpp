@@ -11,6 +11,7 @@
 #include "common/image_io.h"
 #include "grader/src/pictures.h"
 #include "grader/src/reference.h"
+#include "grader/src/signature.h"
 #include "grader/src/text.h"
 
 namespace grader {
@@ -47,11 +48,13 @@ std::string html_text(const std::string& s) {
 }
 
 void write_page(const std::string& path, const Case& c, const std::string& file, const std::string& png_name,
-                const std::string& verdict, const std::vector<std::string>& lines) {
+                const std::string& verdict, const std::vector<std::string>& lines,
+                const std::vector<std::string>& hints) {
   std::string s = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html_text(c.name) +
                   ": your render and the reference</title>\n<style>body{font-family:system-ui,sans-serif;margin:2em;"
                   "color:#222}img{image-rendering:pixelated;max-width:100%;border:1px solid #999}</style></head><body>\n";
   s += "<h1>" + html_text(c.name) + "</h1>\n<p><code>" + html_text(file) + "</code>: " + html_text(verdict) + "</p>\n";
+  for (const std::string& h : hints) s += "<p class=\"hint\">" + html_text(h) + "</p>\n";
   s += "<p><img alt=\"your render, the reference, the difference\" src=\"" + html_text(png_name) +
        "\"></p>\n<p>Left to right: your render, the reference (mean of its renders), the difference.</p>\n<ul>\n";
   for (const std::string& l : lines) s += "<li>" + html_text(l) + "</li>\n";
@@ -63,6 +66,7 @@ void write_page(const std::string& path, const Case& c, const std::string& file,
 // page and the picture.
 struct Comparison {
   std::vector<std::string> lines;
+  std::vector<std::string> hints;  // "Likely cause ...", when a PFM differs
   std::string verdict;
   int status = 0;
   Picture yours, difference;
@@ -86,7 +90,8 @@ ImageBuffer read_candidate(const Case& c, const Reference& ref, const std::strin
 
 // PFMs get the grader's own image statistics and a verdict.
 Comparison compare_pfm(const Case& c, const Reference& ref, const std::vector<std::string>& files,
-                       const std::vector<ImageBuffer>& renders, const Rules& rules) {
+                       const std::vector<ImageBuffer>& renders, const Rules& rules, const Catalogue& catalogue,
+                       const CaseGroups& groups) {
   Comparison r;
   const int w = renders[0].width, h = renders[0].height;
   for (size_t i = 0; i < renders.size(); ++i) {
@@ -115,6 +120,14 @@ Comparison compare_pfm(const Case& c, const Reference& ref, const std::vector<st
   r.lines.push_back(s.deterministic ? "difference: |yours - reference| in units of the round-off tolerance; red "
                                       "beyond it"
                                     : "difference: |z| per pixel, black (0) to white (the threshold); red beyond it");
+  if (!s.passed && !catalogue.bugs.empty()) {
+    // The case's signature as grade_case records it for a failed image.
+    CaseSignature figures;
+    figures.failed = true;
+    figures.figures = image_signature(mine, ref.mean, s);
+    figures.figures["failed_image"] = 1;
+    r.hints = hint_lines(likely_bugs_for_case(c.name, figures, catalogue, groups));
+  }
   return r;
 }
 
@@ -159,7 +172,8 @@ Comparison compare_png(const Reference& ref, const Picture& reference, const Ima
 }  // namespace
 
 int compare_render(const Case& c, const std::string& references, const std::vector<std::string>& files,
-                   const std::string& out_dir, const Rules& rules) {
+                   const std::string& out_dir, const Rules& rules, const Catalogue& catalogue,
+                   const CaseGroups& groups) {
   Reference ref;
   std::string why;
   if (!load_reference(references, c, &ref, &why)) throw std::runtime_error(c.name + ": " + why);
@@ -172,7 +186,8 @@ int compare_render(const Case& c, const std::string& references, const std::vect
   }
   const std::string& file = files[0];
   const Picture reference = radiance_picture(ref.mean);
-  const Comparison r = pfm ? compare_pfm(c, ref, files, renders, rules) : compare_png(ref, reference, renders[0]);
+  const Comparison r = pfm ? compare_pfm(c, ref, files, renders, rules, catalogue, groups)
+                            : compare_png(ref, reference, renders[0]);
 
   std::error_code ec;
   fs::create_directories(out_dir, ec);
@@ -181,10 +196,11 @@ int compare_render(const Case& c, const std::string& references, const std::vect
   save_picture(out_dir + "/" + png_name, side_by_side({r.yours, reference, r.difference}, 4));
   const std::string page = out_dir + "/compare_" + c.name + ".html";
   write_page(page, c, files.size() > 1 ? file + " and " + std::to_string(files.size() - 1) + " more" : file, png_name,
-             r.verdict, r.lines);
+             r.verdict, r.lines, r.hints);
 
   std::printf("%s: %s\n", c.name.c_str(), r.verdict.c_str());
   for (const std::string& l : r.lines) std::printf("  %s\n", l.c_str());
+  for (const std::string& h : r.hints) std::printf("%s\n", h.c_str());
   std::printf("Pictures: %s/%s (yours | reference | difference), %s\n", out_dir.c_str(), png_name.c_str(), page.c_str());
   return r.status;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "grader/src/case_list.h"
+#include "grader/src/hints.h"
 #include "grader/src/rules.h"
 
 namespace grader {
@@ -22,10 +23,14 @@ void print_case_commands(const std::vector<Case>& cases, const std::string& path
 // the case at different seeds (judged with their own noise, as `grader
 // run` judges a build: the verdict the grader would give the image).
 // Writes OUT/compare_<case>.png (render | reference | difference) and
-// OUT/compare_<case>.html, and prints a summary. Returns the exit status:
-// 0 matches (or a PNG compared), 1 differs. Throws std::runtime_error
-// naming the file for bad input (unreadable, wrong size, no reference).
+// OUT/compare_<case>.html, and prints a summary. A .pfm that differs also
+// gets the likely causes from `catalogue`'s known bugs on this case
+// (hints.h: the lines `grader run` prints; none when the catalogue is
+// empty). Returns the exit status: 0 matches (or a PNG compared), 1
+// differs. Throws std::runtime_error naming the file for bad input
+// (unreadable, wrong size, no reference).
 int compare_render(const Case& c, const std::string& references, const std::vector<std::string>& files,
-                   const std::string& out_dir, const Rules& rules);
+                   const std::string& out_dir, const Rules& rules, const Catalogue& catalogue,
+                   const CaseGroups& groups);
 
 }  // namespace grader

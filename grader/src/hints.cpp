@@ -96,8 +96,8 @@ std::string fill(const BuildSignature& build, const KnownBug& bug) {
 }
 
 std::string section_of(const std::string& readme) {
-  const size_t hash = readme.find('#');
-  return hash == std::string::npos ? readme : readme.substr(0, hash) + " (\"" + readme.substr(hash + 1) + "\")";
+  const auto [file, section] = readme_section(readme);
+  return section.empty() ? file : file + " (\"" + section + "\")";
 }
 
 BuildSignature cases_from_json(const Json& j, const std::string& where) {
@@ -236,7 +236,8 @@ std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& cata
     if (int(out.size()) >= max_hints || h.distance > kHintDistance) break;
     if (!out.empty() && h.distance > out[0].distance + kHintSpread) break;
     if (!functions.insert(h.bug->function).second) continue;
-    h.text = fill(build, *h.bug) + " (" + h.bug->function + " in " + h.bug->file + "; read " +
+    h.words = fill(build, *h.bug);
+    h.text = h.words + " (" + h.bug->function + " in " + h.bug->file + "; read " +
              section_of(h.bug->readme) + ")";
     out.push_back(h);
   }
@@ -263,20 +264,31 @@ std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseS
   return hints;
 }
 
-std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
-                                    const CaseGroups& groups) {
-  const BuildSignature build = build_signature(results);
-  const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
-  if (!fails || catalogue.bugs.empty()) return {};
-  const std::vector<Hint> hints = likely_bugs(build, catalogue, groups);
-  if (hints.empty())
-    return {"Likely cause: no known bug's signature is close to this build's; the failed cases' messages are "
-            "what there is to go on"};
+const char* const kNoHintClose =
+    "Likely cause: no known bug's signature is close to this one; the grader's own messages and figures are what "
+    "there is to go on";
+
+std::vector<std::string> hint_lines(const std::vector<Hint>& hints) {
+  if (hints.empty()) return {kNoHintClose};
   std::vector<std::string> lines;
   for (size_t i = 0; i < hints.size(); ++i)
     lines.push_back("Likely cause " + std::to_string(i + 1) + " of " + std::to_string(hints.size()) + ": " +
                     hints[i].text);
   return lines;
+}
+
+std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
+                                    const CaseGroups& groups) {
+  const BuildSignature build = build_signature(results);
+  const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
+  if (!fails || catalogue.bugs.empty()) return {};
+  return hint_lines(likely_bugs(build, catalogue, groups));
+}
+
+std::pair<std::string, std::string> readme_section(const std::string& readme) {
+  const size_t hash = readme.find('#');
+  if (hash == std::string::npos) return {readme, ""};
+  return {readme.substr(0, hash), readme.substr(hash + 1)};
 }
 
 std::string leave_one_out_table(const Catalogue& catalogue, const CaseGroups& groups, double* function_rate,

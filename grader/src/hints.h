@@ -12,6 +12,7 @@
 #pragma once
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "grader/src/case_result.h"
@@ -64,7 +65,8 @@ double signature_distance(const BuildSignature& build, const BuildSignature& bug
 struct Hint {
   const KnownBug* bug = nullptr;
   double distance = 0;
-  std::string text;  // the hint in words, with the function, file and README section
+  std::string words;  // the bug's words with the build's figures put in
+  std::string text;   // the words, then the function, file and README section
 };
 
 // Hints farther than this say nothing: "no known bug is close" instead.
@@ -84,11 +86,22 @@ std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& cata
 std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseSignature& figures,
                                        const Catalogue& catalogue, const CaseGroups& groups, int max_hints = 3);
 
-// The report's lines: "Likely cause: ..." per hint, or one line saying
-// that nothing in the catalogue is close; nothing for a build that fails
-// nothing.
+// The line that says no known bug is close (the reports, `grader compare`
+// and the viewer's difference overlay say it alike).
+extern const char* const kNoHintClose;
+
+// "Likely cause N of M: ..." per hint, or kNoHintClose when there are none:
+// the same lines wherever hints are shown.
+std::vector<std::string> hint_lines(const std::vector<Hint>& hints);
+
+// The report's lines for these results (hint_lines of likely_bugs);
+// nothing for a build that fails nothing or an empty catalogue.
 std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
                                     const CaseGroups& groups);
+
+// A README reference of the catalogue ("stages/x/README.md#Section") as
+// the file and the section (empty when it names none).
+std::pair<std::string, std::string> readme_section(const std::string& readme);
 
 // The leave-one-out table (Markdown): every bug's own signature matched
 // against the rest of the catalogue; the right function among the top

@@ -79,6 +79,8 @@ CLI::App* add_compare(CLI::App& app, Common& common, Options& o) {
   compare->add_option("--cases", common.cases, "The case list")->capture_default_str();
   compare->add_option("--references", common.references, "The reference folder")->capture_default_str();
   compare->add_option("--scenes", common.scenes, "Where the cases' scenes are")->capture_default_str();
+  compare->add_option("--catalogue", common.catalogue, "The known bugs' signatures, for the likely causes")
+      ->capture_default_str();
   return compare;
 }
 

@@ -105,6 +105,8 @@ cases.page_render = async () => {
     check(diff.summary && diff.summary.startsWith('matches the reference'),
           'the difference overlay scores the render against case p1_spheres\'s reference: it matches',
           JSON.stringify(diff));
+    check(diff.hints.length === 0 && !diff.note && await page.locator('#diff-hints').isHidden(),
+          'a render that matches gets no likely causes', JSON.stringify(diff));
     await page.screenshot({path: path.join(OUT, 'overlay_diff.png')});
 
     // The normals overlay is its own small job: it neither stops nor
@@ -385,6 +387,8 @@ cases.diff_pending = async () => {
       const diff = await waitEvent(page, `e.type === 'diff' && e.job === ${caseRender.job}`);
       check(diff.summary && diff.summary.startsWith('matches the reference'), 'at 16 samples the render is compared: it matches',
             JSON.stringify(diff));
+      check(diff.hints.length === 0 && !diff.note && await page.locator('#diff-hints').isHidden(),
+            'a render that matches gets no likely causes', JSON.stringify(diff));
       const wrong = await page.evaluate(() => window.viewer.events.filter((e) => e.type === 'diff' && e.error));
       check(wrong.length === 0, 'no difference request was answered with an error', JSON.stringify(wrong));
       check(errors.length === 0, 'no errors in the page (no failed request either)', errors.join('; '));
@@ -393,6 +397,59 @@ cases.diff_pending = async () => {
   } finally {
     fs.rmSync(gate, {recursive: true, force: true});
   }
+};
+
+// The difference overlay of a render that differs from its case's
+// reference (the test build sends every frame times pi, as a diffuse BSDF
+// that leaves out the division by pi renders): the likely causes are in
+// words under the verdict, the nearest the known bug in bsdf_f; each line
+// is inside the view, wraps, and leaves the image and the verdict alone.
+cases.diff_hints = async () => {
+  const flags = ['-r', '64', '48', '-s', '2', '-t', '2', SCENE()];
+  await withViewerPage(flags, async (page, v, errors) => {
+    await page.selectOption('#case', 'p3_spheres_light');
+    const before = await lastJob(page);
+    await page.click('#btn-apply-case');
+    const caseRender = await waitEvent(page, `e.type === 'render' && e.job > ${before} && e.settings.samples === 16`);
+    // The last pass is compared before the render's end is logged: from
+    // then on the page shows that comparison.
+    const end = await renderEnd(page, caseRender.job);
+    check(end.state === 'done' && end.samples === 16, 'the case\'s render reaches 16 samples', JSON.stringify(end));
+    const diff = await page.evaluate((j) => window.viewer.events.filter((e) => e.type === 'diff' && e.job === j).pop() || {},
+                                     caseRender.job);
+    check(diff.summary && diff.summary.startsWith('differs from the reference'),
+          'the render times pi differs from case p3_spheres_light', JSON.stringify(diff));
+    check(Array.isArray(diff.hints) && diff.hints.length >= 1 && diff.hints.length <= 3 &&
+          diff.hints[0].function === 'bsdf_f' && diff.hints[0].file === 'common/bsdf.h',
+          'the nearest likely cause is the known bug in bsdf_f (common/bsdf.h), at most three in all', JSON.stringify(diff.hints));
+    const shown = await page.locator('#diff-hints p').allTextContents();
+    check(shown.length === diff.hints.length && shown[0].startsWith(`Likely cause 1 of ${diff.hints.length}: ` +
+          'every lit image is too bright by about pi (image x3.1): is the diffuse BSDF the albedo divided by pi?') &&
+          shown[0].endsWith('Look at bsdf_f in common/bsdf.h, and read "Given code" in stages/part3_direct_lighting/README.md.'),
+          'the page says each likely cause in words, with the function, file and README section to read', JSON.stringify(shown));
+    check(!shown.some((t) => t.includes('`')) && await page.locator('#diff-hints code, #diff-hints pre').count() === 0,
+          'in plain words: no code marks or code blocks', JSON.stringify(shown));
+    // Laid out: below the verdict, inside the window, wrapped (nothing
+    // wider than its box), not over the image or the verdict.
+    const layout = await page.evaluate(() => {
+      const r = (id) => document.getElementById(id).getBoundingClientRect();
+      const box = document.getElementById('diff-hints');
+      return {hints: r('diff-hints').toJSON(), note: r('overlay-note').toJSON(), canvas: r('render-canvas').toJSON(),
+              width: window.innerWidth, overflow: box.scrollWidth - box.clientWidth,
+              lines: [...box.querySelectorAll('p')].map((p) => p.getBoundingClientRect().height)};
+    });
+    const below = (a, b) => a.top >= b.bottom - 0.5;
+    check(below(layout.hints, layout.note) && below(layout.note, layout.canvas) && layout.hints.right <= layout.width &&
+          layout.overflow <= 0 && layout.lines.every((h) => h > 0),
+          'the causes sit under the verdict, inside the window, wrapped, over nothing else', JSON.stringify(layout));
+    await page.locator('#diff-hints').scrollIntoViewIfNeeded();
+    await page.screenshot({path: path.join(OUT, 'diff_hints.png')});
+
+    // They belong to the difference: with the overlay off they go.
+    await page.selectOption('#overlay', '');
+    check(await page.locator('#diff-hints').isHidden(), 'with the overlay off, no likely causes are shown');
+    check(errors.length === 0, 'no errors in the page', errors.join('; '));
+  }, {bin: args.planted, env: {PT_VIEWER_PLANT: 'pi'}});
 };
 
 // A build whose parts 2 to 5 are still stubs (the test build pretends so):

@@ -499,3 +499,68 @@ TEST_CASE("compare: --list prints each case's command, a PFM gets a verdict, a P
   check_finished(grader({"nosuchcase", pfm}), 2);
   check_finished(grader({"good", sb.path("missing.pfm")}), 2);
 }
+
+TEST_CASE("compare: a PFM that differs names the likely cause from the known bugs, one that matches none") {
+  // The project's own case list, references and catalogue. Case
+  // p3_spheres_light's reference mean times pi is what a diffuse BSDF that
+  // forgets to divide the albedo by pi renders (grader/known_bugs.json:
+  // albedo_not_over_pi, in bsdf_f).
+  const fs::path root = fs::path(PT_PROJECT_SCENES).parent_path();
+  pt::test::TempDir tmp;
+  const auto grader = [&](const std::string& file, const std::string& catalogue) {
+    return run_program({grader_exe(), "compare", "--cases", (root / "grader/cases.txt").string(), "--references",
+                        (root / "reference_images").string(), "--catalogue", catalogue, "-o", tmp.file("cmp"),
+                        "p3_spheres_light", file},
+                       {});
+  };
+  const std::string known_bugs = (root / "grader/known_bugs.json").string();
+  const pt::ImageBuffer mean = pt::read_pfm((root / "reference_images/p3_spheres_light/mean.pfm").string());
+  pt::ImageBuffer times_pi = mean;
+  for (pt::Color& c : times_pi.pixels) c = c * 3.14159265f;
+  const std::string pi_pfm = tmp.file("times_pi.pfm"), mean_pfm = tmp.file("mean.pfm");
+  pt::write_pfm(pi_pfm, times_pi);
+  pt::write_pfm(mean_pfm, mean);
+
+  const Run differs = grader(pi_pfm, known_bugs);
+  check_finished(differs, 1);
+  INFO(differs.out);
+  CHECK_THAT(differs.out, Contains("p3_spheres_light: differs from the reference"));
+  const std::string first = "\nLikely cause 1 of ";
+  REQUIRE(differs.out.find(first) != std::string::npos);
+  const size_t at = differs.out.find(first) + 1;
+  const std::string line = differs.out.substr(at, differs.out.find('\n', at) - at);
+  CHECK_THAT(line, Contains("every lit image is too bright by about pi (image x3.1)") &&
+                       EndsWith("(bsdf_f in common/bsdf.h; read stages/part3_direct_lighting/README.md "
+                                "(\"Given code\"))"));
+  int hints = 0;
+  for (size_t p = 0; (p = differs.out.find("\nLikely cause ", p)) != std::string::npos; ++p) ++hints;
+  CHECK(hints <= 3);
+  CHECK_THAT(slurp(tmp.file("cmp/compare_p3_spheres_light.html")),
+             Contains("<p class=\"hint\">Likely cause 1 of ") && Contains("(bsdf_f in common/bsdf.h;"));
+
+  const Run same = grader(mean_pfm, known_bugs);
+  check_finished(same, 0);
+  CHECK_THAT(same.out, Contains("p3_spheres_light: matches the reference"));
+  CHECK_THAT(same.out + slurp(tmp.file("cmp/compare_p3_spheres_light.html")), !Contains("Likely cause"));
+
+  // A PNG has no verdict, so no likely cause either.
+  const std::string pi_png = tmp.file("times_pi.png");
+  pt::write_png(pi_png, times_pi);
+  const Run eight_bit = grader(pi_png, known_bugs);
+  check_finished(eight_bit, 0);
+  CHECK_THAT(eight_bit.out, Contains("compared in 8 bits") && !Contains("Likely cause"));
+
+  // A catalogue whose one bug fails another case: nothing in it is close.
+  const std::string other = tmp.file("other_bugs.json");
+  pt::test::write_text(other, R"({"commit": "x", "date": "y", "bugs": [{"name": "sphere_root", "part": 1,
+    "function": "intersect_sphere", "file": "stages/part1_raytracing/sphere.cpp", "readme": "README.md#Spheres",
+    "hint": "spheres inside out", "cases": {"p1_spheres": {"failed": true, "signature": {"mean_ratio": 0.9}}}}]})");
+  const Run none = grader(pi_pfm, other);
+  check_finished(none, 1);
+  CHECK_THAT(none.out, Contains("\nLikely cause: no known bug's signature is close to this one") &&
+                           !Contains("Likely cause 1"));
+  // Without a catalogue, compare says nothing of causes.
+  const Run without = grader(pi_pfm, tmp.file("missing.json"));
+  check_finished(without, 1);
+  CHECK_THAT(without.out, !Contains("Likely cause"));
+}

@@ -14,6 +14,7 @@
 #include "viewer/access.h"
 #include "viewer/camera_file.h"
 #include "common/collada.h"
+#include "common/image_io.h"
 #include "viewer/debug_api.h"
 #include "viewer/debugger/debugger.h"
 #include "common/json.h"
@@ -423,4 +424,81 @@ TEST_CASE("an earlier pass of a case's render is not compared yet: the differenc
   other = render;
   other.cell_set = true;
   CHECK(viewer::difference_pending(f, other, vc).empty());
+}
+
+namespace {
+
+// A frame holding `img` as the worker sends it (20 bytes a pixel).
+viewer::Frame frame_of(const ImageBuffer& img, int samples) {
+  viewer::Frame f;
+  f.kind = "render";
+  f.width = img.width;
+  f.height = img.height;
+  f.samples = samples;
+  f.payload.resize(img.pixels.size() * 20, 0);
+  for (size_t i = 0; i < img.pixels.size(); ++i) {
+    const uint32_t n = uint32_t(samples);
+    std::memcpy(&f.payload[i * 20], &img.pixels[i], 12);
+    std::memcpy(&f.payload[i * 20 + 12], &n, 4);
+  }
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("the difference overlay names the likely causes of a render that differs, none of one that matches",
+          "[viewer]") {
+  // The project's own case, reference and catalogue: p3_spheres_light's
+  // reference mean times pi is what a diffuse BSDF that leaves out the
+  // division by pi renders (grader/known_bugs.json: albedo_not_over_pi).
+  const fs::path root = fs::path(PT_PROJECT_SCENES_DIR).parent_path();
+  viewer::FileAccess files;
+  files.allow_folder((root / "scenes").string());
+  const std::vector<viewer::ViewerCase> cases = viewer::load_cases(root.string(), files);
+  const viewer::ViewerCase* vc = viewer::find_case(cases, "p3_spheres_light");
+  REQUIRE(vc);
+  const grader::Catalogue catalogue = viewer::load_catalogue(root.string());
+  REQUIRE(!catalogue.bugs.empty());
+  std::vector<grader::Case> all;
+  for (const viewer::ViewerCase& c : cases) all.push_back(c.c);
+  const grader::CaseGroups groups = grader::case_groups(all);
+  const std::string refs = (root / "reference_images").string();
+  const ImageBuffer mean = read_pfm(refs + "/p3_spheres_light/mean.pfm");
+  ImageBuffer times_pi = mean;
+  for (Color& c : times_pi.pixels) c = c * 3.14159265f;
+
+  const auto compare = [&](const ImageBuffer& img, const grader::Catalogue& cat) {
+    return viewer::difference_overlay(frame_of(img, 16), vc->opts, *vc, refs, cat, groups);
+  };
+  const viewer::Difference bright = compare(times_pi, catalogue);
+  CHECK_THAT(bright.verdict, Catch::StartsWith("differs from the reference"));
+  const Json j = parse_json(viewer::hints_json(bright), "X-Hints");
+  const Json* hints = j.get("hints");
+  REQUIRE(hints);
+  REQUIRE(hints->type == Json::Type::Array);
+  REQUIRE(!hints->array.empty());
+  CHECK(hints->array.size() <= 3);
+  const Json& first = hints->array[0];
+  CHECK(first.str("function") == "bsdf_f");
+  CHECK(first.str("file") == "common/bsdf.h");
+  CHECK(first.str("readme") == "stages/part3_direct_lighting/README.md");
+  CHECK(first.str("section") == "Given code");
+  CHECK(first.str("text") == "every lit image is too bright by about pi (image x3.1): is the diffuse BSDF the albedo "
+                             "divided by pi?");
+  for (const Json& h : hints->array) CHECK(h.str("section").find('`') == std::string::npos);  // words, not Markdown
+  CHECK(j.get("note") == nullptr);
+
+  const viewer::Difference same = compare(mean, catalogue);
+  CHECK_THAT(same.verdict, Catch::StartsWith("matches the reference"));
+  CHECK(viewer::hints_json(same) == "{\"hints\":[]}");
+
+  // A catalogue whose one bug fails another case: nothing in it is close.
+  grader::Catalogue other;
+  other.bugs.push_back(catalogue.bugs[0]);
+  other.bugs[0].cases = {{"p1_spheres", grader::CaseSignature{true, {{"mean_ratio", 0.9}}}}};
+  const Json none = parse_json(viewer::hints_json(compare(times_pi, other)), "X-Hints");
+  CHECK(none.get("hints")->array.empty());
+  CHECK(none.str("note") == grader::kNoHintClose);
+  // No catalogue: no causes, and no note either.
+  CHECK(viewer::hints_json(compare(times_pi, grader::Catalogue{})) == "{\"hints\":[]}");
 }

@@ -1,6 +1,7 @@
 // The viewer's page: settings, the progressive render with its HUD and
 // overlays, cell renders, and the switch to the 3D modes (view3d.js).
 // Everything it shows comes from the server's small JSON API and frames.
+import {showHints} from '/web/hints.js';
 
 const $ = (id) => document.getElementById(id);
 const form = $('settings');
@@ -355,6 +356,7 @@ async function drawOverlay(renderJob) {
   octx.clearRect(0, 0, overlayCanvas.width, overlayCanvas.height);
   overlayCanvas.style.opacity = $('overlay-opacity').value / 100;
   $('overlay-note').textContent = '';
+  showHints($('diff-hints'), null);
   if (!viewer.overlay) return;
   if (viewer.overlay === 'diff') return drawDiff(renderJob || viewer.job);
   const job = viewer.overlay === 'normals' ? viewer.normalsJob : viewer.job;
@@ -410,8 +412,10 @@ async function drawDiff(job) {
     }
     octx.putImageData(img, 0, 0);
     const summary = res.headers.get('X-Summary');
+    const likely = JSON.parse(res.headers.get('X-Hints') || '{"hints": []}');
     $('overlay-note').textContent = `${name}: ${summary} (|z| per pixel, black 0 to white at the threshold, red beyond)`;
-    viewer.events.push({type: 'diff', job, case: name, summary});
+    showHints($('diff-hints'), likely);
+    viewer.events.push({type: 'diff', job, case: name, summary, hints: likely.hints, note: likely.note});
   } catch (e) {
     if (job !== viewer.job) return;
     $('overlay-note').textContent = e.message;

@@ -1,8 +1,10 @@
-// Debug mode (D): the intersection tester, the light-sample tester and the
-// path inspector, each a call of the build's own code in a worker
-// (POST /api/debug/intersect|lights|path), drawn in the 3D view
-// (debug3d.js) and listed in the panel.
+// Debug mode (D): the intersection tester, the light-sample tester, the
+// path inspector, the BSDF sampler and the environment map's sampling
+// density, each a call of the build's own code in a worker
+// (POST /api/debug/intersect|lights|path|bsdf|envmap), drawn in the 3D view
+// (debug3d.js) and listed in the panel (the last two by debug_sampling.js).
 import {COLORS, createOverlay} from '/web/debug3d.js';
+import {createSampling} from '/web/debug_sampling.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -49,6 +51,7 @@ export function create(viewer, hooks) {
   const overlay = createOverlay(three);
   const state = {tool: 'path', last: {}};
   viewer.debugState = state;
+  const TOOLS = ['intersect', 'lights', 'path', 'bsdf', 'envmap'];
 
   // The scene's size, for drawing escaped rays and arrows in proportion.
   function sceneSize() {
@@ -64,6 +67,8 @@ export function create(viewer, hooks) {
     const last = state.last[tool];
     if (last && last.ok) draw(tool, last.result);
     overlay.redraw();
+    // The density is shown as soon as its tab opens with a map chosen.
+    if (tool === 'envmap' && !last && viewer.settings.env && document.body.dataset.debug !== 'running') runEnvmap();
   }
 
   // One call: started in a worker and followed (how long it runs, where it
@@ -107,6 +112,8 @@ export function create(viewer, hooks) {
       if (problems.length) hooks.banner(problems.join('\n'), result.error ? 'error' : 'todo');
       if (tool === 'intersect') showIntersection(out, result);
       else if (tool === 'lights') showLights(out, result);
+      else if (tool === 'bsdf') sampling.showBsdf(out, result);
+      else if (tool === 'envmap') sampling.showEnvmap(out, result);
       else showPath(out, result);
       draw(tool, result);
     }
@@ -138,13 +145,15 @@ export function create(viewer, hooks) {
   }
 
   function toolName(tool) {
-    return {intersect: 'Intersection tester', lights: 'Light-sample tester', path: 'Path inspector'}[tool];
+    return {intersect: 'Intersection tester', lights: 'Light-sample tester', path: 'Path inspector', bsdf: 'BSDF sampler',
+            envmap: 'Environment density'}[tool];
   }
 
   function draw(tool, r) {
     if (tool === 'intersect') drawIntersection(r);
     else if (tool === 'lights') drawLights(r);
-    else drawPath(r);
+    else if (tool === 'bsdf') sampling.drawBsdf(r);
+    else if (tool === 'path') drawPath(r);
   }
 
   function kv(out, rows) {
@@ -153,6 +162,7 @@ export function create(viewer, hooks) {
     out.append(t);
     return t;
   }
+  const sampling = createSampling({el, f, fc, num, kv, overlay, sceneSize, COLORS});
 
   // ---------------------------------------------------- intersection tester
 
@@ -411,29 +421,41 @@ export function create(viewer, hooks) {
 
   // ------------------------------------------------------------ the panel
 
-  // The render's image, to click a pixel on.
+  // The render's image, to click a pixel on (the path inspector's and the
+  // BSDF sampler's copies).
   function copyRender() {
-    const src = $('render-canvas'), dst = $('dbg-pick');
-    dst.width = src.width;
-    dst.height = src.height;
-    dst.getContext('2d').drawImage(src, 0, 0);
+    const src = $('render-canvas');
+    for (const dst of [$('dbg-pick'), $('dbg-bpick')]) {
+      dst.width = src.width;
+      dst.height = src.height;
+      dst.getContext('2d').drawImage(src, 0, 0);
+    }
   }
-  $('dbg-pick').addEventListener('click', (e) => {
-    const c = $('dbg-pick'), rect = c.getBoundingClientRect();
-    const col = Math.floor((e.clientX - rect.left) * c.width / rect.width);
-    const row = Math.floor((e.clientY - rect.top) * c.height / rect.height);
-    // Pixels count from the bottom, as -p and the render loop do.
-    $('dbg-x').value = Math.min(c.width - 1, Math.max(0, col));
-    $('dbg-y').value = Math.min(c.height - 1, Math.max(0, c.height - 1 - row));
-    runPath();
-  });
+  function pickPixel(canvas, xField, yField, run) {
+    canvas.addEventListener('click', (e) => {
+      const rect = canvas.getBoundingClientRect();
+      const col = Math.floor((e.clientX - rect.left) * canvas.width / rect.width);
+      const row = Math.floor((e.clientY - rect.top) * canvas.height / rect.height);
+      // Pixels count from the bottom, as -p and the render loop do.
+      $(xField).value = Math.min(canvas.width - 1, Math.max(0, col));
+      $(yField).value = Math.min(canvas.height - 1, Math.max(0, canvas.height - 1 - row));
+      run();
+    });
+  }
+  pickPixel($('dbg-pick'), 'dbg-x', 'dbg-y', () => runPath());
+  pickPixel($('dbg-bpick'), 'dbg-bx', 'dbg-by', () => runBsdf());
 
   const runIntersect = () => { state.lastInput = intersectInput(); return call('intersect', state.lastInput); };
   const runLights = () => { defaults(); return call('lights', lightsInput()); };
   const runPath = () => { limits(); return call('path', pathInput()); };
+  const runBsdf = () => call('bsdf', {x: parseNum($('dbg-bx').value), y: parseNum($('dbg-by').value),
+                                      samples: parseNum($('dbg-bsamples').value), seed: parseNum($('dbg-bseed').value)});
+  const runEnvmap = () => call('envmap', {});
   $('dbg-intersect-run').addEventListener('click', runIntersect);
   $('dbg-lights-run').addEventListener('click', runLights);
   $('dbg-path-run').addEventListener('click', runPath);
+  $('dbg-bsdf-run').addEventListener('click', runBsdf);
+  $('dbg-envmap-run').addEventListener('click', runEnvmap);
   $('dbg-shape').addEventListener('change', () => {
     for (const e of document.querySelectorAll('[data-shape]')) e.hidden = e.dataset.shape !== $('dbg-shape').value;
   });
@@ -457,13 +479,15 @@ export function create(viewer, hooks) {
     $('dbg-x').max = viewer.settings.width - 1;
     $('dbg-y').max = viewer.settings.height - 1;
     $('dbg-sample').max = viewer.settings.samples - 1;
+    $('dbg-bx').max = viewer.settings.width - 1;
+    $('dbg-by').max = viewer.settings.height - 1;
   }
   // New settings: what was drawn and listed was for the old ones.
   $('settings').addEventListener('change', () => {
     overlay.clear();
     overlay.redraw();
     state.last = {};
-    for (const t of ['intersect', 'lights', 'path']) $(`dbg-${t}-out`).textContent = '';
+    for (const t of TOOLS) $(`dbg-${t}-out`).textContent = '';
   });
 
   return {
@@ -481,6 +505,6 @@ export function create(viewer, hooks) {
       showTool(state.tool);
       document.body.dataset.debugReady = '1';
     },
-    call, runIntersect, runLights, runPath, showTool, overlay,
+    call, runIntersect, runLights, runPath, runBsdf, runEnvmap, showTool, overlay,
   };
 }

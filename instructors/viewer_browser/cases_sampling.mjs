@@ -2,6 +2,7 @@
 // spheres, Debug mode's BSDF sampler on the glass sphere (two directions,
 // the Fresnel split) and on a microfacet sphere (the histogram against the
 // pdf), and the environment map's sampling density at part 8.
+import fs from 'node:fs';
 import path from 'node:path';
 import {args, OUT, check, withViewerPage, waitEvent, lastJob, renderEnd} from './harness.mjs';
 
@@ -48,7 +49,15 @@ async function clickPixel(page, x, y) {
   await page.mouse.click(box.x + (x + 0.5) * box.width / W, box.y + (H - y - 0.5) * box.height / H);
 }
 
-const shoot = (page, name) => page.screenshot({path: path.join(OUT, name), clip: {x: 0, y: 0, width: 1400, height: 900}});
+// PNG artefacts; --publish DIR: the README's pictures (JPEGs) of the two tools.
+async function shoot(page, name, published) {
+  const clip = {x: 0, y: 0, width: 1400, height: 900};
+  await page.screenshot({path: path.join(OUT, name), clip});
+  if (args.publish && published) {
+    fs.mkdirSync(args.publish, {recursive: true});
+    await page.screenshot({path: path.join(args.publish, published), type: 'jpeg', quality: 82, clip});
+  }
+}
 
 cases.debug_sampling = async () => {
   const flags = ['--part', '6', '-r', String(W), String(H), '-s', '8', '-m', '4', '-t', '2', '--seed', '3',
@@ -116,7 +125,7 @@ cases.debug_sampling = async () => {
     });
     check(plotted, 'the histogram is drawn in the panel');
     await page.locator('#dbg-bsdf-histogram').scrollIntoViewIfNeeded();
-    await shoot(page, 'debug_bsdf_microfacet.png');
+    await shoot(page, 'debug_bsdf_microfacet.png', 'debug_bsdf.jpg');
 
     // The environment map at part 8: its density as an image.
     await pick(page, '#f-env', 'sky_sun.exr');
@@ -133,7 +142,7 @@ cases.debug_sampling = async () => {
                                             document.getElementById('dbg-envmap-img').naturalHeight]);
     check(size[0] === env.result.width && size[1] === env.result.height, 'the density image is the map\'s size',
           JSON.stringify(size));
-    await shoot(page, 'debug_envmap.png');
+    await shoot(page, 'debug_envmap.png', 'debug_envmap.jpg');
     check(v.proc.exitCode === null, 'the server is still running');
     check(errors.length === 0, 'no script errors in the page', errors.join('; '));
   });

@@ -5,18 +5,11 @@
 import fs from 'node:fs';
 import path from 'node:path';
 import {args, OUT, check, withViewerPage, waitEvent, lastJob, renderEnd} from './harness.mjs';
+import {debugCall} from './cases_debug.mjs';
 
 export const cases = {};
 
 const W = 400, H = 300;
-
-async function debugCall(page, tool, run) {
-  const before = await page.evaluate((t) => window.viewer.events.filter((e) => e.type === 'debug' && e.tool === t).length, tool);
-  await run();
-  await page.waitForFunction(([t, n]) => window.viewer.events.filter((e) => e.type === 'debug' && e.tool === t).length > n,
-                             [tool, before], {timeout: 120000});
-  return page.evaluate((t) => window.viewer.events.filter((e) => e.type === 'debug' && e.tool === t).at(-1), tool);
-}
 
 // The option of a file select whose path ends with `name`.
 async function pick(page, select, name) {
@@ -133,7 +126,8 @@ cases.debug_sampling = async () => {
     await page.waitForFunction(() => window.viewer.settings.part === 8 && /sky_sun/.test(window.viewer.settings.env));
     const env = await debugCall(page, 'envmap', () => page.click('#debug-tabs button[data-tool=envmap]'));
     check(env.ok && env.result.sampler === 'importance (part 8)' && env.result.max_ratio > 100,
-          'the density of part 8\'s sampler: the sun far likelier than the average texel', JSON.stringify(env.error || env.result.max_ratio));
+          'the density of part 8\'s sampler: the sun far likelier than the average texel',
+          JSON.stringify(env.error || env.result.max_ratio));
     await page.waitForFunction(() => {
       const img = document.getElementById('dbg-envmap-img');
       return img && img.complete && img.naturalWidth > 0;

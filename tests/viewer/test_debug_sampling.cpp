@@ -103,7 +103,8 @@ TEST_CASE("Debug mode's BSDF sampler: a glass pixel's two directions, a metal pi
   // CBspheres_microfacet at part 7: (300, 50) the gold sphere (alpha 0.25),
   // (100, 50) the copper one (alpha 0.05).
   const RenderOptions o7 = settings("CBspheres_microfacet.dae", 7);
-  for (const char* input : {R"({"x":300,"y":50,"samples":4096,"seed":1})", R"({"x":100,"y":50,"samples":4096,"seed":2})"}) {
+  for (const char* input :
+       {R"({"x":300,"y":50,"samples":4096,"seed":1})", R"({"x":100,"y":50,"samples":4096,"seed":2})"}) {
     const Json metal = call("bsdf", input, o7);
     INFO(input << ": " << metal.str("verdict"));
     CHECK(metal.str("model") == "microfacet");
@@ -133,8 +134,10 @@ TEST_CASE("Debug mode's BSDF sampler refuses pixels off the image, off the scene
     return load(o);
   };
   using debug::InputError;
-  CHECK_THROWS_AS(viewer::run_debug_tool("bsdf", R"({"x":400,"y":0,"samples":8,"seed":1})", o, counted_load), InputError);
-  CHECK_THROWS_AS(viewer::run_debug_tool("bsdf", R"({"x":0,"y":-1,"samples":8,"seed":1})", o, counted_load), InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("bsdf", R"({"x":400,"y":0,"samples":8,"seed":1})", o, counted_load),
+                  InputError);
+  CHECK_THROWS_AS(viewer::run_debug_tool("bsdf", R"({"x":0,"y":-1,"samples":8,"seed":1})", o, counted_load),
+                  InputError);
   CHECK_THROWS_AS(viewer::run_debug_tool("bsdf", R"({"x":1,"y":1,"samples":0,"seed":1})", o, counted_load), InputError);
   CHECK_THROWS_AS(viewer::run_debug_tool("bsdf", R"({"x":1,"y":1,"samples":65537,"seed":1})", o, counted_load),
                   InputError);

@@ -211,7 +211,7 @@ BsdfSamplesResult sample_bsdf_at_pixel(const Scene& scene, const Intersector& ge
   if (!found)
     throw InputError("the camera ray through pixel (" + std::to_string(x) + ", " + std::to_string(y) +
                      ") hits nothing: pick a pixel on a surface");
-  const std::shared_ptr<const PartShading> shading = part_shading(scene, opts.part);
+  const std::shared_ptr<const PartShading> shading = part_shading(scene, opts.part, opts.bsdf_hemisphere);
   static const Material fallback;
   const bool known = hit.material >= 0 && size_t(hit.material) < shading->materials.size();
   const Material& m = known ? shading->materials[size_t(hit.material)] : fallback;

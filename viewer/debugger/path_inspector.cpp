@@ -156,7 +156,7 @@ PathRecord record_path(const Scene& scene, const Intersector& geometry, const Re
 
   // The materials with the BSDF models of the part (its delta BSDFs, its
   // microfacet), as the radiance function shades them.
-  const std::shared_ptr<const PartShading> shading = part_shading(scene, opts.part);
+  const std::shared_ptr<const PartShading> shading = part_shading(scene, opts.part, opts.bsdf_hemisphere);
   Recorder recorder(scene, shading->materials, opts, rec);
   const RecordingIntersector isect(geometry, recorder);
   // The render's radiance function for the part (pathtracer/radiance.h),

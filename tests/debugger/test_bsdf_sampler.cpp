@@ -7,8 +7,9 @@
 // Statistics: each histogram is judged bin by bin (|z| <= 4.5, Bonferroni
 // over at most 61 tests: a correct sampler is flagged with probability at
 // most 4.2e-4 per run). The runs are seeded (seeds 1 to 3) and run once each:
-// 12 runs of correct samplers here, so a correct build fails this file with
-// probability below 0.5%, the same every time for a given build.
+// 12 histograms of correct samplers and 3 glass splits (two directions
+// each, |z| <= 4.5), so a correct build fails this file with probability
+// about 0.5%, and the same way every time for a given build.
 //
 // Deliberate bugs (planted in a scratch copy) -> tests here that failed:
 //   the expected counts integrated without sin theta (dtheta dphi)

@@ -51,7 +51,7 @@ export function createSampling({el, f, fc, num, kv, overlay, sceneSize, COLORS})
   // probability it reported for the choice (glass: Schlick's R and 1 − R).
   function showDirections(out, r) {
     const n = r.samples.length;
-    const t = el('table', {class: 'steps', id: 'dbg-bsdf-directions'});
+    const t = el('table', {class: 'dirs', id: 'dbg-bsdf-directions'});
     t.append(el('tr', {}, ...['scatter', 'wi (local)', 'chosen', 'reported probability', 'z', 'f·|cos θ|/pdf', 'geometry']
       .map((h) => el('th', {}, h))));
     for (const d of r.directions) {

@@ -149,9 +149,28 @@ std::string path(const Json& in, const RenderOptions& opts, const std::function<
   return debug::record_path(scene, *geometry, opts, x, y, s).to_json();
 }
 
+// The BSDF sampler from the first hit of a pixel's centre ray.
+std::string bsdf(const Json& in, const RenderOptions& opts, const std::function<Scene()>& load) {
+  const int x = int(input_int(in, "x", "x", std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+  const int y = int(input_int(in, "y", "y", std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+  const int n = int(input_int(in, "samples", "samples", 1, debug::kMaxBsdfSamples));
+  const uint64_t seed = uint64_t(input_int(in, "seed", "seed", 0, 9007199254740991LL));
+  // Checked before the scene is read: an out-of-range pixel costs nothing.
+  if (x < 0 || y < 0 || x >= opts.width || y >= opts.height)
+    throw InputError("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+                     std::to_string(opts.width) + "x" + std::to_string(opts.height) + " image");
+  const Scene scene = load();
+  std::unique_ptr<Intersector> geometry = debug::make_geometry(scene, opts);
+  Json j = debug::sample_bsdf_at_pixel(scene, *geometry, opts, x, y, n, seed).json();
+  j.set("pixel", json_array({json_int(x), json_int(y)}, true)).set("part", json_int(opts.part));
+  return write_json(j);
+}
+
 }  // namespace
 
-bool is_debug_tool(const std::string& tool) { return tool == "intersect" || tool == "lights" || tool == "path"; }
+bool is_debug_tool(const std::string& tool) {
+  return tool == "intersect" || tool == "lights" || tool == "path" || tool == "bsdf" || tool == "envmap";
+}
 
 std::string run_debug_tool(const std::string& tool, const std::string& input, const RenderOptions& opts,
                            const std::function<Scene()>& load) {
@@ -165,6 +184,8 @@ std::string run_debug_tool(const std::string& tool, const std::string& input, co
   if (tool == "intersect") return intersect(in, load);
   if (tool == "lights") return lights(in, opts, load);
   if (tool == "path") return path(in, opts, load);
+  if (tool == "bsdf") return bsdf(in, opts, load);
+  if (tool == "envmap") return debug::environment_density(load(), opts).to_json();
   throw InputError("unknown debug tool '" + tool + "'");
 }
 

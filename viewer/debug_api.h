@@ -14,7 +14,9 @@ namespace pt::viewer {
 
 // The tools: "intersect" (a ray against a typed triangle or sphere, or a
 // primitive of the scene), "lights" (many samples of one light from a
-// point), "path" (one sample of one pixel replayed and recorded).
+// point), "path" (one sample of one pixel replayed and recorded), "bsdf"
+// (many samples of the BSDF at a pixel's first hit), "envmap" (where the
+// -e map is sampled).
 bool is_debug_tool(const std::string& tool);
 
 // Runs `tool` on `input` (the page's JSON object) with the settings `opts`;

@@ -24,7 +24,8 @@ function pfmPixel(buf, x, y) {
   return [f[i], f[i + 1], f[i + 2]];
 }
 
-async function debugCall(page, tool, run) {
+// A Debug mode call made by `run` (a click), to the page's event of its end.
+export async function debugCall(page, tool, run) {
   const before = await page.evaluate((t) => window.viewer.events.filter((e) => e.type === 'debug' && e.tool === t).length, tool);
   await run();
   await page.waitForFunction(([t, n]) => window.viewer.events.filter((e) => e.type === 'debug' && e.tool === t).length > n,

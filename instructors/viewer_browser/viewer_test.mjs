@@ -19,10 +19,11 @@ import {cases as debug} from './cases_debug.mjs';
 import {cases as server} from './cases_server.mjs';
 import {cases as access} from './cases_access.mjs';
 import {cases as stuck} from './cases_stuck.mjs';
+import {cases as sampling} from './cases_sampling.mjs';
 import fs from 'node:fs';
 import path from 'node:path';
 
-const cases = Object.assign({}, render, bvh, debug, server, access, stuck);
+const cases = Object.assign({}, render, bvh, debug, server, access, stuck, sampling);
 
 // Not a test: the server's memory (resident, in MB) with three 8192x4096
 // part 1 renders in a row, and its peak while six clients download the

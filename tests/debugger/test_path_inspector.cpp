@@ -45,62 +45,6 @@ using namespace pt::test::path;
 
 namespace {
 
-// What the replays of one configuration showed, to check that the test saw
-// the features it claims to cover.
-struct Coverage {
-  int records = 0, exact = 0, pixels = 0, pixels_equal = 0;
-  int longest = 0;               // most steps in one path
-  int roulette_deaths = 0;       // paths ended by a draw >= 0.7
-  int blocked = 0, lit = 0;      // light samples
-  int probes = 0;                // hemisphere samples
-  int escaped = 0;               // camera rays that hit nothing
-};
-
-// Renders the whole image with the command line's render_scene, replays
-// every sample of every pixel and checks (1) each record adds up exactly,
-// (2) the average of the replayed samples is exactly the rendered pixel
-// and (3) part 5's sample counts agree.
-Coverage check_adds_up(const Scene& scene, const RenderOptions& o, const std::string& what) {
-  Coverage c;
-  const RenderResult render = render_scene(scene, o);
-  const auto geometry = debug::make_geometry(scene, o);
-  for (int y = 0; y < o.height; ++y)
-    for (int x = 0; x < o.width; ++x) {
-      const int taken = int(render.image.samples[render.image.index(x, y)]);
-      Color sum(0.0f);
-      for (int s = 0; s < taken; ++s) {
-        const debug::PathRecord rec = debug::record_path(scene, *geometry, o, x, y, s);
-        ++c.records;
-        INFO(what << ", pixel (" << x << ", " << y << ") sample " << s << ": " << rec.error << " returned "
-                  << show(rec.returned) << ", steps add up to " << show(rec.sum_of_contributions));
-        REQUIRE(rec.ok());
-        CHECK(rec.samples_taken == taken);
-        c.exact += rec.exact ? 1 : 0;
-        CHECK(rec.exact);
-        sum += rec.returned;
-        c.longest = std::max(c.longest, int(rec.steps.size()));
-        c.escaped += rec.camera_hit ? 0 : 1;
-        if (rec.end.rfind("Russian roulette", 0) == 0) ++c.roulette_deaths;
-        for (const debug::PathStep& st : rec.steps) {
-          c.probes += int(st.hemisphere_samples.size());
-          for (const debug::LightSampleStep& l : st.light_samples) {
-            c.blocked += l.verdict == "blocked" ? 1 : 0;
-            c.lit += l.verdict == "lit" ? 1 : 0;
-          }
-        }
-      }
-      ++c.pixels;
-      const Color replayed = sum / float(taken);
-      INFO(what << ", pixel (" << x << ", " << y << "): rendered " << show(render.image.at(x, y)) << ", replayed "
-                << show(replayed));
-      c.pixels_equal += same_bits(replayed, render.image.at(x, y)) ? 1 : 0;
-      CHECK(same_bits(replayed, render.image.at(x, y)));
-    }
-  CHECK(c.exact == c.records);
-  CHECK(c.pixels_equal == c.pixels);
-  return c;
-}
-
 // A strict JSON reader that only says whether `text` is one valid JSON
 // value (RFC 8259), so that the page can parse what the server sends.
 class JsonCheck {

@@ -1,8 +1,9 @@
-// The debugger's core: an intersection tester, a light-sample tester and a
-// path inspector that replays one sample of one pixel exactly and lists
-// every step of its path. The viewer's server calls these functions (in a
-// worker process) and sends each result's to_json() to the page: its json()
-// (a value of common/json.h, see json_values.h) as write_json lays it out.
+// The debugger's core: an intersection tester, a light-sample tester, a
+// BSDF sampler and a path inspector that replays one sample of one pixel
+// exactly and lists every step of its path. The viewer's server calls
+// these functions (in a worker process) and sends each result's to_json()
+// to the page: its json() (a value of common/json.h, see json_values.h) as
+// write_json lays it out.
 //
 // Errors: absurd input (a zero or NaN direction, a negative radius,
 // min_t > max_t, a pixel or sample index out of range, ...) throws
@@ -103,6 +104,129 @@ LightSamplesResult sample_light_many(const Scene& scene, int light_index, const 
                                      int n, uint64_t seed, const Intersector* geometry = nullptr);
 
 // ------------------------------------------------------------------
+// BSDF sampler
+
+// One call of the material's sample_f.
+struct BsdfSampleTest {
+  float u1 = 0, u2 = 0;        // the uniform numbers passed
+  Vec3 wi_local, wi;           // the direction drawn, local (z = normal) and in the world
+  Color f{0.0f};
+  float pdf = 0;               // as sample_f reported it (0: no direction)
+  float pdf_model = 0;         // the model's pdf(wo, wi) for that direction
+  Json json() const;
+};
+
+// A non-delta BSDF: the directions' density over theta (the angle to the
+// normal) in bins, against the pdf's. A bin's `expected` count is n times
+// the integral of the model's pdf over the bin (a fine midpoint grid in
+// theta and phi); z = (count - expected) / sqrt(expected (1 - expected / n)).
+struct BsdfHistogramBin {
+  float theta_lo = 0, theta_hi = 0;  // degrees
+  int count = 0;
+  double expected = 0;
+  double sampled_density = 0;        // count / (n * the bin's solid angle), per steradian
+  double pdf_density = 0;            // expected / (n * the bin's solid angle): the pdf's mean over the bin
+  double z = 0;
+  bool judged = false;               // expected >= kBsdfMinExpected (the others are judged pooled)
+  Json json() const;
+};
+
+// A delta BSDF: each distinct direction drawn (mirror: one; glass: the
+// reflection and the refraction), how often, and the probability sample_f
+// reported for that choice (glass: the Fresnel reflectance and 1 - it).
+struct BsdfDirection {
+  Vec3 wi_local, wi;
+  std::string scatter;         // "reflected" or "refracted"
+  int count = 0;
+  float pdf = 0;               // the probability of this choice, as reported
+  Color f{0.0f};
+  Color weight{0.0f};          // f |cos theta| / pdf
+  double z = 0;                // (count - n pdf) / sqrt(n pdf (1 - pdf))
+  // The geometry of the choice: reflected, how far wi is from wo mirrored
+  // about the normal (|wi - (-wo.x, -wo.y, wo.z)|); refracted, sin theta_o
+  // / sin theta_i (Snell's law: the ratio of the indices, ior going in).
+  float mirror_error = 0, sine_ratio = 0;
+  Json json() const;
+};
+
+// Below this expected count a bin is too small for the normal bound: such
+// bins are judged together, pooled into one (always judged).
+constexpr double kBsdfMinExpected = 10;
+// The bound on |z| of each judged bin (and of the pool, and of each delta
+// direction): two-sided, at most 61 tests, so a correct sampler is flagged
+// with probability at most 61 x 2 x Phi(-4.5) = 4.2e-4 (Bonferroni).
+constexpr double kBsdfZBound = 4.5;
+
+struct BsdfSamplesResult {
+  int material = -1;
+  std::string material_name;   // "name (type)"
+  std::string model;           // the BSDF model the render gives it at the part (common/bsdf.h)
+  bool delta = false;
+  Vec3 point, normal, wo, wo_local;
+  uint64_t seed = 0;
+  std::vector<BsdfSampleTest> samples;
+  int no_direction = 0;        // samples with pdf 0 (no bounce ray: the path ends)
+  int pdf_mismatches = 0;      // non-delta: samples whose reported pdf differs from pdf(wo, wi) (relative 1e-3)
+  // Non-delta: the histogram (0-90 degrees when neither the samples nor the
+  // pdf go below the surface, else 0-180), the pdf's integral over the
+  // sphere (1 minus the probability of no direction), the pool of small bins.
+  std::vector<BsdfHistogramBin> histogram;
+  double pdf_integral = 0;
+  int pooled_count = 0;
+  double pooled_expected = 0, pooled_z = 0;
+  std::vector<BsdfDirection> directions;  // delta only
+  bool agrees = false;         // every |z| within kBsdfZBound (and no sample where the pdf is 0)
+  std::string verdict;         // one line: what agrees or what does not
+  std::vector<std::string> todos;
+  std::string error;
+  bool ok() const { return error.empty(); }
+  Json json() const;
+  std::string to_json() const { return write_json(json()); }
+};
+
+constexpr int kMaxBsdfSamples = 1 << 16;
+
+// `n` calls of `m`'s sample_f (the model the material has, common/bsdf.h)
+// at a surface point with normal `normal`, light leaving along `wo` (world,
+// pointing away from the surface), with the uniform numbers of Rng(seed);
+// then the histogram (or the delta directions) and the verdict.
+BsdfSamplesResult sample_bsdf_many(const Material& m, const Vec3& point, const Vec3& normal, const Vec3& wo, int n,
+                                   uint64_t seed);
+
+// The same from the first hit of the camera ray through the centre of
+// pixel (x, y) ((0, 0) bottom-left), wo = the ray's reverse, with the
+// materials the render gives opts.part. No hit is an InputError.
+BsdfSamplesResult sample_bsdf_at_pixel(const Scene& scene, const Intersector& geometry, const RenderOptions& opts,
+                                       int x, int y, int n, uint64_t seed);
+
+// ------------------------------------------------------------------
+// Environment map's sampling density
+
+// Where the render's sampler of the -e map draws directions: each texel's
+// probability (pathtracer/env_probability.h, the picture of `pathtracer
+// --env-probability`), as a grey PNG on a log scale about the average
+// texel's 1/(w h), and figures of it.
+struct EnvironmentDensityResult {
+  int part = 0;
+  std::string sampler;         // "importance (part 8)" or "uniform over the sphere"
+  int width = 0, height = 0;
+  std::vector<uint8_t> png;    // 8-bit grey, the map's size
+  double total = 0;            // the probabilities' sum (1 but for rounding; 0: empty distributions)
+  double max_ratio = 0;        // the largest probability times w h (1: as likely as the average texel)
+  double top_share = 0;        // the probability of the 1% most likely texels
+  std::string note;            // e.g. the distributions are empty
+  std::vector<std::string> todos;
+  std::string error;
+  bool ok() const { return error.empty(); }
+  Json json() const;           // the PNG as a data: URL
+  std::string to_json() const { return write_json(json()); }
+};
+
+// The density of the scene's environment light (an InputError when it has
+// none: no -e), under the sampler opts.part gives it (parts 3 on).
+EnvironmentDensityResult environment_density(const Scene& scene, const RenderOptions& opts);
+
+// ------------------------------------------------------------------
 // Path inspector
 
 // One light sample taken by the direct-light estimate at a step: a call of
@@ -143,6 +267,13 @@ struct PathStep {
   Hit hit;
   Vec3 point;
   std::string material;        // the material's name and type, e.g. "red (diffuse)"
+  // The BSDF model the render gives the material at its part (common/bsdf.h):
+  // "diffuse", "mirror", "glass", "microfacet", ..., or "not rendered" (a
+  // later part's material: black).
+  std::string bsdf_model;
+  // A delta BSDF (mirror, glass, refraction; part 6): no light samples, the
+  // light is what the bounce ray reaches (`reached`).
+  bool delta = false;
   Color emission{0.0f};
 
   bool direct_estimated = false;
@@ -162,9 +293,16 @@ struct PathStep {
 
   bool bsdf_sampled = false;
   float bsdf_u1 = 0, bsdf_u2 = 0;
-  Vec3 bsdf_wi_local, bsdf_wi;
+  Vec3 bsdf_wo_local, bsdf_wi_local, bsdf_wi;
   Color bsdf_f{0.0f};
   float bsdf_pdf = 0, bsdf_cos_theta = 0;
+  std::string bsdf_scatter;    // "reflected" (wi on wo's side of the surface) or "refracted"
+
+  // A delta step's light: the emission of the hit (or the sky) its bounce
+  // ray reaches, added as path weight x f |cos| / pdf x reached when the
+  // contract counts it (-o, --indirect-only, as a direct estimate).
+  Color reached{0.0f};
+  bool reached_counted = false;
 
   bool next_traced = false;    // a bounce ray left this hit
   Ray next_ray;

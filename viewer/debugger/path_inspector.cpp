@@ -12,6 +12,7 @@
 #include "stages/part2_bvh/bvh.h"
 #include "viewer/debugger/debugger.h"
 #include "viewer/debugger/recorder.h"
+#include "common/lights.h"
 #include "stages/part4_global_illumination/global_illumination.h"
 #include "stages/part1_raytracing/pixel_sampling.h"
 #include "pathtracer/radiance.h"
@@ -60,8 +61,9 @@ void check_options(const Scene& scene, const RenderOptions& opts, int x, int y, 
 }
 
 // Each step's path weight and radiance, from what was observed, by the
-// contracts of parts 3 and 4; then their sum.
-void account(const RenderOptions& opts, PathRecord& rec) {
+// contracts of parts 3, 4 and 6 (a delta BSDF's light is what its bounce
+// reaches); then their sum, in the estimator's order.
+void account(const RenderOptions& opts, const std::vector<Light>& lights, PathRecord& rec) {
   if (opts.part <= 2) {
     // Normal shading: the colour is the normal at the first hit; nothing
     // is added along a path.
@@ -86,9 +88,30 @@ void account(const RenderOptions& opts, PathRecord& rec) {
         bounces += step.radiance_added;
       }
     }
-    if (step.bsdf_sampled && step.next_hit) {
-      const float cos_over_pdf = step.bsdf_wi_local.z / (step.bsdf_pdf * step.continue_probability);
-      throughput *= step.bsdf_f * cos_over_pdf;
+    if (!step.bsdf_sampled || !step.next_traced) continue;
+    // |cos theta|: a refracted wi lies below the surface.
+    const float cos_over_pdf = std::fabs(step.bsdf_wi_local.z) / (step.bsdf_pdf * step.continue_probability);
+    // After a delta bounce, what it reaches stands for the direct light,
+    // counted by the same rule (-o 0: at the last vertex, depth 1).
+    const bool count_reached = opts.part >= 4 && step.delta && (path.accumulate || step.depth == 2) &&
+                               !(path.skip_direct && first);
+    if (!step.next_hit) {
+      step.reached = escaped_radiance(lights, step.next_ray.d);
+      if (count_reached) {
+        step.reached_counted = true;
+        step.radiance_added = throughput * step.bsdf_f * cos_over_pdf * step.reached;
+        bounces += step.radiance_added;
+      }
+      continue;
+    }
+    throughput *= step.bsdf_f * cos_over_pdf;
+    if (step.delta && k + 1 < rec.steps.size()) {
+      step.reached = rec.steps[k + 1].emission;
+      if (count_reached) {
+        step.reached_counted = true;
+        step.radiance_added = throughput * step.reached;
+        bounces += step.radiance_added;
+      }
     }
   }
   rec.sum_of_contributions = rec.zero_bounce + bounces;
@@ -131,7 +154,10 @@ PathRecord record_path(const Scene& scene, const Intersector& geometry, const Re
   rec.seed = opts.seed;
   rec.samples_per_pixel = opts.samples_per_pixel;
 
-  Recorder recorder(scene, opts, rec);
+  // The materials with the BSDF models of the part (its delta BSDFs, its
+  // microfacet), as the radiance function shades them.
+  const std::shared_ptr<const PartShading> shading = part_shading(scene, opts.part, opts.bsdf_hemisphere);
+  Recorder recorder(scene, shading->materials, opts, rec);
   const RecordingIntersector isect(geometry, recorder);
   // The render's radiance function for the part (pathtracer/radiance.h),
   // on the watched geometry.
@@ -185,7 +211,7 @@ PathRecord record_path(const Scene& scene, const Intersector& geometry, const Re
                 std::to_string(calls) + " sample(s) of this pixel, never sample " + std::to_string(sample_index);
   }
   if (rec.error.empty()) {
-    account(opts, rec);
+    account(opts, shading->lights, rec);
     rec.exact = same_bits(rec.sum_of_contributions, rec.returned);
     rec.agrees = rec.exact || close(rec.sum_of_contributions, rec.returned);
     if (!rec.agrees)

@@ -43,6 +43,8 @@ Json PathStep::json() const {
       .set("material_index", json_int(hit.material));
   o.set("primitive", json_int(hit.primitive))
       .set("material", json_text(material))
+      .set("bsdf_model", json_text(bsdf_model))
+      .set("delta", json_bool(delta))
       .set("emission", json_vec(emission));
   o.set("direct_estimated", json_bool(direct_estimated));
   if (direct_estimated) {
@@ -67,11 +69,14 @@ Json PathStep::json() const {
   if (bsdf_sampled)
     o.set("bsdf_sample", json_object()
                              .set("u", json_pair(bsdf_u1, bsdf_u2))
+                             .set("wo_local", json_vec(bsdf_wo_local))
                              .set("wi_local", json_vec(bsdf_wi_local))
                              .set("wi", json_vec(bsdf_wi))
                              .set("f", json_vec(bsdf_f))
                              .set("pdf", json_float(bsdf_pdf))
-                             .set("cos_theta", json_float(bsdf_cos_theta)));
+                             .set("cos_theta", json_float(bsdf_cos_theta))
+                             .set("scatter", json_text(bsdf_scatter)));
+  if (delta) o.set("reached", json_vec(reached)).set("reached_counted", json_bool(reached_counted));
   o.set("next_traced", json_bool(next_traced));
   if (next_traced) o.set("next_ray", json_ray(next_ray)).set("next_hit", json_bool(next_hit));
   return o;

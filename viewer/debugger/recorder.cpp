@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "common/bsdf.h"
 #include "common/frame.h"
@@ -36,8 +37,9 @@ void Recorder::finish(const Color& L) {
   if (!rec_.steps.empty()) {
     PathStep& step = rec_.steps.back();
     // Two numbers at the end may be a BSDF sample that carried nothing
-    // (f = 0, as on an emitter, or pdf = 0): no bounce ray followed.
-    if (pending_.size() >= 2 && !step.bsdf_sampled && step.direct_estimated) {
+    // (f = 0, as on an emitter, or pdf = 0, as a refraction at total
+    // internal reflection): no bounce ray followed.
+    if (pending_.size() >= 2 && !step.bsdf_sampled && (step.direct_estimated || step.delta)) {
       PathStep probe = step;
       if (match_bsdf_sample(probe, nullptr) && (!(probe.bsdf_pdf > 0) || is_black(probe.bsdf_f))) {
         step = probe;
@@ -197,17 +199,30 @@ bool Recorder::match_bsdf_sample(PathStep& step, const Ray* ray) {
   const Frame frame = Frame::from_normal(step.hit.n);
   const Vec3 wo = frame.to_local(-step.ray.d);
   const float a = pending_[pending_.size() - 2], b = pending_.back();
+  const Material& m = material(step.hit.material);
+  const auto direction = [&](int reversed, Vec3* wi, float* pdf) {
+    const Color f = bsdf_sample_f(m, wo, reversed ? b : a, reversed ? a : b, wi, pdf);
+    return std::make_pair(f, frame.to_world(*wi));
+  };
   for (int reversed : {0, 1}) {
     if (bsdf_order_ >= 0 && reversed != bsdf_order_) continue;
     if (bsdf_order_ < 0 && !ray && reversed) break;  // no ray to tell the order by: as drawn
     const float u1 = reversed ? b : a, u2 = reversed ? a : b;
     Vec3 wi;
     float pdf = 0;
-    const Color f = bsdf_sample_f(material(step.hit.material), wo, u1, u2, &wi, &pdf);
-    const Vec3 world = frame.to_world(wi);
+    const auto [f, world] = direction(reversed, &wi, &pdf);
     if (ray && !same_bits(world, ray->d)) continue;
-    if (ray) bsdf_order_ = reversed;
+    // The order is learnt only from a sample it decides: a mirror's
+    // direction (which takes no number) or a glass's choice that both
+    // orders make alike tells nothing.
+    if (ray && bsdf_order_ < 0) {
+      Vec3 other_wi;
+      float other_pdf = 0;
+      if (!same_bits(direction(1 - reversed, &other_wi, &other_pdf).second, ray->d)) bsdf_order_ = reversed;
+    }
     step.bsdf_sampled = true;
+    step.bsdf_wo_local = wo;
+    step.bsdf_scatter = (wi.z > 0) == (wo.z > 0) ? "reflected" : "refracted";
     step.bsdf_u1 = u1;
     step.bsdf_u2 = u2;
     step.bsdf_wi_local = wi;
@@ -253,7 +268,7 @@ int Recorder::light_index(const Light& light) const {
 
 const Material& Recorder::material(int index) const {
   static const Material fallback;
-  return index >= 0 && size_t(index) < scene_.materials.size() ? scene_.materials[size_t(index)] : fallback;
+  return index >= 0 && size_t(index) < materials_.size() ? materials_[size_t(index)] : fallback;
 }
 
 void Recorder::push_step(const Ray& ray, const Hit& h, int bounce) {
@@ -264,6 +279,8 @@ void Recorder::push_step(const Ray& ray, const Hit& h, int bounce) {
   s.point = ray.at(h.t);
   const Material& m = material(h.material);
   s.material = (m.name.empty() ? "material " + std::to_string(h.material) : m.name) + " (" + to_string(m.type) + ")";
+  s.bsdf_model = bsdf_model(m).name;
+  s.delta = bsdf_is_delta(m);
   s.emission = emission(m);
   rec_.steps.push_back(s);
 }

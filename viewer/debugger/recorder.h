@@ -23,7 +23,10 @@ namespace pt::debug {
 
 class Recorder final : public PathRecorder {
  public:
-  Recorder(const Scene& scene, const RenderOptions& opts, PathRecord& rec) : scene_(scene), opts_(opts), rec_(rec) {}
+  // `materials`: the render's, with the BSDF models of its part
+  // (pathtracer/radiance.h's part_shading), which the sample was shaded with.
+  Recorder(const Scene& scene, const std::vector<Material>& materials, const RenderOptions& opts, PathRecord& rec)
+      : scene_(scene), materials_(materials), opts_(opts), rec_(rec) {}
 
   bool recording() const { return recording_; }
   bool finished() const { return finished_; }
@@ -64,6 +67,7 @@ class Recorder final : public PathRecorder {
   void push_step(const Ray& ray, const Hit& h, int bounce);
 
   const Scene& scene_;
+  const std::vector<Material>& materials_;
   const RenderOptions& opts_;
   PathRecord& rec_;
   bool recording_ = false, finished_ = false, camera_traced_ = false, in_direct_ = false, lost_track_ = false;

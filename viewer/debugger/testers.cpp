@@ -1,10 +1,10 @@
 // The intersection tester and the light-sample tester.
 #include <cmath>
-#include <set>
 
 #include "viewer/debugger/debugger.h"
 #include "stages/part3_direct_lighting/direct_lighting.h"
 #include "viewer/debugger/json_values.h"
+#include "viewer/debugger/todo_collector.h"
 #include "common/path_recorder.h"
 #include "common/rng.h"
 #include "stages/part1_raytracing/sphere.h"
@@ -33,18 +33,6 @@ Ray checked_ray(const RayInput& in) {
   if (in.min_t > in.max_t) throw InputError("min_t must not exceed max_t");
   return Ray(in.origin, in.direction, in.min_t, in.max_t);
 }
-
-// Collects the TODO stubs reached while installed.
-class TodoCollector final : public PathRecorder {
- public:
-  void on_todo(const char* what) override {
-    if (seen_.insert(what).second) todos.push_back(std::string("TODO: implement ") + what);
-  }
-  std::vector<std::string> todos;
-
- private:
-  std::set<std::string> seen_;
-};
 
 // Calls `test` (an intersect_* function) and fills the result.
 template <class Shape>

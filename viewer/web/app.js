@@ -93,6 +93,38 @@ function todoText(todo) {
 const numberFields = ['samples', 'light_samples', 'max_depth', 'threads', 'adaptive_batch', 'adaptive_tolerance',
                       'lens_radius', 'focal_distance', 'width', 'height', 'seed', 'part'];
 
+// The parts, as the part selector names them (stages/README.md).
+const PART_NAMES = ['rays, triangles, spheres', 'BVH', 'direct lighting', 'global illumination', 'adaptive sampling',
+                    'mirror and glass', 'microfacet', 'environment light', 'depth of field'];
+
+function fillParts(built) {
+  const sel = form.elements.part;
+  sel.innerHTML = '';
+  for (let p = 1; p <= built; ++p) sel.add(new Option(`${p}: ${PART_NAMES[p - 1] || ''}`, String(p)));
+}
+
+// What the settings do at the chosen part that a student may not expect:
+// the lens before part 9, the map's sampling before part 8, a scene's
+// mirror, glass or metal before the part that writes it.
+function settingsNotes(s, scene) {
+  const notes = [];
+  const part = s.part || 0;
+  if (part < 9 && s.lens_radius > 0) notes.push(`lens radius (-b): the thin lens is part 9; at part ${part} the camera is a pinhole`);
+  if (part >= 9 && !(s.lens_radius > 0)) notes.push('part 9: lens radius 0, a pinhole; set -b (and -d) for depth of field');
+  if (s.env && part < 3) notes.push('environment map (-e): parts 1-2 shade normals; the map lights the scene from part 3 on');
+  else if (s.env && part < 8) notes.push('environment map (-e): sampled uniformly over the sphere until part 8 (importance sampling)');
+  const types = new Set(((scene && scene.materials) || []).map((m) => m.type));
+  const later = [['mirror', 6], ['glass', 6], ['refraction', 6], ['microfacet', 7]].filter(([t, p]) => types.has(t) && part >= 3 && part < p);
+  if (later.length) notes.push(`this scene's ${later.map(([t]) => t).join(', ')} material${later.length > 1 ? 's' : ''} ` +
+                               `render black before part ${Math.min(...later.map(([, p]) => p))} (the course's starter code)`);
+  return notes;
+}
+function showSettingsNotes() {
+  const notes = viewer.settings ? settingsNotes(viewer.settings, viewer.scene) : [];
+  $('settings-note').textContent = notes.join('\n');
+}
+viewer.settingsNotes = settingsNotes;
+
 function fillSelect(select, files, current, none) {
   select.innerHTML = '';
   if (none) select.add(new Option(none, ''));
@@ -143,6 +175,7 @@ function settingsChanged() {
   }
   if (before && (before.width !== viewer.settings.width || before.height !== viewer.settings.height)) viewer.cell = null;
   fillCases();
+  showSettingsNotes();
   clearTimeout(restartTimer);
   restartTimer = setTimeout(() => {
     loadScene();
@@ -157,6 +190,7 @@ async function loadScene() {
     viewer.scene = await api('/api/scene', request());
     $('scene-name').textContent = `${viewer.scene.scene} — ${viewer.scene.triangles} triangles, ` +
                                   `${viewer.scene.spheres} spheres, ${viewer.scene.lights} lights`;
+    showSettingsNotes();
   } catch (e) {
     banner(e.message, 'error');
   }
@@ -576,6 +610,7 @@ async function main() {
   // Why the settings start at this part (the build's parts still stubbed).
   $('start-note').textContent = st.start_note || '';
   $('start-note').hidden = !st.start_note;
+  fillParts(st.parts_built);
   fillSelect(form.elements.scene, st.scenes, st.start.scene);
   fillSelect(form.elements.camera_file, st.cameras, st.start.camera_file, '(the scene\'s camera)');
   fillSelect(form.elements.env, st.envs, st.start.env, '(none)');

@@ -1,8 +1,10 @@
-// Debug mode (D): the intersection tester, the light-sample tester and the
-// path inspector, each a call of the build's own code in a worker
-// (POST /api/debug/intersect|lights|path), drawn in the 3D view
-// (debug3d.js) and listed in the panel.
+// Debug mode (D): the intersection tester, the light-sample tester, the
+// path inspector, the BSDF sampler and the environment map's sampling
+// density, each a call of the build's own code in a worker
+// (POST /api/debug/intersect|lights|path|bsdf|envmap), drawn in the 3D view
+// (debug3d.js) and listed in the panel (the last two by debug_sampling.js).
 import {COLORS, createOverlay} from '/web/debug3d.js';
+import {createSampling} from '/web/debug_sampling.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -49,6 +51,7 @@ export function create(viewer, hooks) {
   const overlay = createOverlay(three);
   const state = {tool: 'path', last: {}};
   viewer.debugState = state;
+  const TOOLS = ['intersect', 'lights', 'path', 'bsdf', 'envmap'];
 
   // The scene's size, for drawing escaped rays and arrows in proportion.
   function sceneSize() {
@@ -64,6 +67,8 @@ export function create(viewer, hooks) {
     const last = state.last[tool];
     if (last && last.ok) draw(tool, last.result);
     overlay.redraw();
+    // The density is shown as soon as its tab opens with a map chosen.
+    if (tool === 'envmap' && !last && viewer.settings.env && document.body.dataset.debug !== 'running') runEnvmap();
   }
 
   // One call: started in a worker and followed (how long it runs, where it
@@ -107,6 +112,8 @@ export function create(viewer, hooks) {
       if (problems.length) hooks.banner(problems.join('\n'), result.error ? 'error' : 'todo');
       if (tool === 'intersect') showIntersection(out, result);
       else if (tool === 'lights') showLights(out, result);
+      else if (tool === 'bsdf') sampling.showBsdf(out, result);
+      else if (tool === 'envmap') sampling.showEnvmap(out, result);
       else showPath(out, result);
       draw(tool, result);
     }
@@ -138,13 +145,15 @@ export function create(viewer, hooks) {
   }
 
   function toolName(tool) {
-    return {intersect: 'Intersection tester', lights: 'Light-sample tester', path: 'Path inspector'}[tool];
+    return {intersect: 'Intersection tester', lights: 'Light-sample tester', path: 'Path inspector', bsdf: 'BSDF sampler',
+            envmap: 'Environment density'}[tool];
   }
 
   function draw(tool, r) {
     if (tool === 'intersect') drawIntersection(r);
     else if (tool === 'lights') drawLights(r);
-    else drawPath(r);
+    else if (tool === 'bsdf') sampling.drawBsdf(r);
+    else if (tool === 'path') drawPath(r);
   }
 
   function kv(out, rows) {
@@ -153,6 +162,7 @@ export function create(viewer, hooks) {
     out.append(t);
     return t;
   }
+  const sampling = createSampling({el, f, fc, num, kv, overlay, sceneSize, COLORS});
 
   // ---------------------------------------------------- intersection tester
 
@@ -284,11 +294,16 @@ export function create(viewer, hooks) {
       const b = s.bsdf_sample;
       const rr = s.roulette;
       const roulette = rr && rr.applies ? `${f(rr.draws)} vs ${f(rr.continue_probability)}` : '—';
-      const direct = `${fc(s.direct)}${s.direct_counted === false ? ' (not counted)' : ''}`;
+      // A delta step (mirror, glass) has no direct estimate: its light is
+      // what its bounce ray reaches.
+      const direct = s.delta ? (s.reached ? `reached ${fc(s.reached)}${s.reached_counted ? '' : ' (not counted)'}` : '— (delta)')
+                             : `${fc(s.direct)}${s.direct_counted === false ? ' (not counted)' : ''}`;
+      const material = s.material.replace(/-material /, ' ') +
+                       (s.bsdf_model === 'not rendered' ? ' — not rendered at this part: black' : '');
       const expected = lightEstimate(s);
       const mismatch = expected && !sameColour(expected, s.direct);
       tbl.append(el('tr', {'data-bounce': s.bounce, class: mismatch ? 'mismatch' : ''},
-        el('td', {}, s.bounce), el('td', {}, s.material.replace(/-material /, ' ')), el('td', {}, direct), el('td', {}, b ? fc(b.f) : '—'),
+        el('td', {}, s.bounce), el('td', {}, material), el('td', {}, direct), el('td', {}, b ? fc(b.f) : '—'),
         el('td', {}, b ? f(b.cos_theta) : '—'), el('td', {}, b ? f(b.pdf) : '—'), el('td', {}, roulette),
         el('td', {}, fc(s.path_weight)), el('td', {class: 'added'}, fc(s.radiance_added))));
       // The light samples (or hemisphere probes) of the direct estimate, under the step.
@@ -301,7 +316,13 @@ export function create(viewer, hooks) {
       here.addEventListener('click', () => pickPoint(s));
       hitline.append(again, ' ', here);
       ls.append(hitline);
-      ls.append(el('div', {}, `${s.estimator || 'no direct estimate'}:`));
+      if (b) ls.append(bsdfLine(s, b));
+      if (s.delta) {
+        ls.append(el('div', {class: 'delta'}, `a delta BSDF (${s.bsdf_model}): no light samples; its light is what the bounce ray ` +
+          `reaches${s.reached ? `, ${fc(s.reached)}, ${s.reached_counted ? 'added as path weight × f·|cos θ|/pdf × reached' : 'not counted here (-o, --indirect-only)'}` : ''}`));
+      } else {
+        ls.append(el('div', {}, `${s.estimator || 'no direct estimate'}:`));
+      }
       if (expected) {
         ls.append(el('div', {class: mismatch ? 'mismatch' : 'match'},
           `the light samples' f·L·cos θ/pdf, averaged per light and summed: ${fc(expected)}` +
@@ -321,7 +342,21 @@ export function create(viewer, hooks) {
                   el('td', {id: 'dbg-path-total'}, fc(r.returned))));
     out.append(tbl);
     out.append(el('div', {class: 'note'}, 'Colours with equal channels show one number. radiance added = path weight × direct; ' +
-                  'the next path weight = path weight × f × cos θ / pdf (÷ the continue probability when roulette applies).'));
+                  'the next path weight = path weight × f × |cos θ| / pdf (÷ the continue probability when roulette applies); a refracted wi lies below the surface (cos θ < 0).'));
+  }
+
+  // What the step's BSDF sample did: reflected or refracted, the directions
+  // in the local frame (z = the normal), f, pdf (for a delta BSDF the
+  // probability of the choice it made) and the weight it gives the path.
+  function bsdfLine(s, b) {
+    const cos = Math.abs(num(b.cos_theta)), pdf = num(b.pdf);
+    const weight = pdf > 0 ? fc(b.f.map((x) => num(x) * cos / pdf)) : '—';
+    const line = el('div', {class: 'bsdf'},
+      `BSDF sample (${s.bsdf_model}${s.delta ? ', delta' : ''}): ${b.scatter}, wo ${f(b.wo_local)} → wi ${f(b.wi_local)} ` +
+      `(local, z = normal), f ${fc(b.f)}, pdf ${f(b.pdf)}${s.delta ? ' (the probability of this choice)' : ''}, ` +
+      `|cos θ| ${f(cos)}, f·|cos θ|/pdf ${weight}`);
+    line.dataset.scatter = b.scatter;
+    return line;
   }
 
   // A step's ray and primitive into the intersection tester; its point and
@@ -386,29 +421,41 @@ export function create(viewer, hooks) {
 
   // ------------------------------------------------------------ the panel
 
-  // The render's image, to click a pixel on.
+  // The render's image, to click a pixel on (the path inspector's and the
+  // BSDF sampler's copies).
   function copyRender() {
-    const src = $('render-canvas'), dst = $('dbg-pick');
-    dst.width = src.width;
-    dst.height = src.height;
-    dst.getContext('2d').drawImage(src, 0, 0);
+    const src = $('render-canvas');
+    for (const dst of [$('dbg-pick'), $('dbg-bpick')]) {
+      dst.width = src.width;
+      dst.height = src.height;
+      dst.getContext('2d').drawImage(src, 0, 0);
+    }
   }
-  $('dbg-pick').addEventListener('click', (e) => {
-    const c = $('dbg-pick'), rect = c.getBoundingClientRect();
-    const col = Math.floor((e.clientX - rect.left) * c.width / rect.width);
-    const row = Math.floor((e.clientY - rect.top) * c.height / rect.height);
-    // Pixels count from the bottom, as -p and the render loop do.
-    $('dbg-x').value = Math.min(c.width - 1, Math.max(0, col));
-    $('dbg-y').value = Math.min(c.height - 1, Math.max(0, c.height - 1 - row));
-    runPath();
-  });
+  function pickPixel(canvas, xField, yField, run) {
+    canvas.addEventListener('click', (e) => {
+      const rect = canvas.getBoundingClientRect();
+      const col = Math.floor((e.clientX - rect.left) * canvas.width / rect.width);
+      const row = Math.floor((e.clientY - rect.top) * canvas.height / rect.height);
+      // Pixels count from the bottom, as -p and the render loop do.
+      $(xField).value = Math.min(canvas.width - 1, Math.max(0, col));
+      $(yField).value = Math.min(canvas.height - 1, Math.max(0, canvas.height - 1 - row));
+      run();
+    });
+  }
+  pickPixel($('dbg-pick'), 'dbg-x', 'dbg-y', () => runPath());
+  pickPixel($('dbg-bpick'), 'dbg-bx', 'dbg-by', () => runBsdf());
 
   const runIntersect = () => { state.lastInput = intersectInput(); return call('intersect', state.lastInput); };
   const runLights = () => { defaults(); return call('lights', lightsInput()); };
   const runPath = () => { limits(); return call('path', pathInput()); };
+  const runBsdf = () => call('bsdf', {x: parseNum($('dbg-bx').value), y: parseNum($('dbg-by').value),
+                                      samples: parseNum($('dbg-bsamples').value), seed: parseNum($('dbg-bseed').value)});
+  const runEnvmap = () => call('envmap', {});
   $('dbg-intersect-run').addEventListener('click', runIntersect);
   $('dbg-lights-run').addEventListener('click', runLights);
   $('dbg-path-run').addEventListener('click', runPath);
+  $('dbg-bsdf-run').addEventListener('click', runBsdf);
+  $('dbg-envmap-run').addEventListener('click', runEnvmap);
   $('dbg-shape').addEventListener('change', () => {
     for (const e of document.querySelectorAll('[data-shape]')) e.hidden = e.dataset.shape !== $('dbg-shape').value;
   });
@@ -432,13 +479,15 @@ export function create(viewer, hooks) {
     $('dbg-x').max = viewer.settings.width - 1;
     $('dbg-y').max = viewer.settings.height - 1;
     $('dbg-sample').max = viewer.settings.samples - 1;
+    $('dbg-bx').max = viewer.settings.width - 1;
+    $('dbg-by').max = viewer.settings.height - 1;
   }
   // New settings: what was drawn and listed was for the old ones.
   $('settings').addEventListener('change', () => {
     overlay.clear();
     overlay.redraw();
     state.last = {};
-    for (const t of ['intersect', 'lights', 'path']) $(`dbg-${t}-out`).textContent = '';
+    for (const t of TOOLS) $(`dbg-${t}-out`).textContent = '';
   });
 
   return {
@@ -456,6 +505,6 @@ export function create(viewer, hooks) {
       showTool(state.tool);
       document.body.dataset.debugReady = '1';
     },
-    call, runIntersect, runLights, runPath, showTool, overlay,
+    call, runIntersect, runLights, runPath, runBsdf, runEnvmap, showTool, overlay,
   };
 }

@@ -72,7 +72,7 @@ struct Hint {
 // Hints farther than this say nothing: "no known bug is close" instead.
 constexpr double kHintDistance = 0.7;
 // Further hints only within this much of the nearest one's distance.
-constexpr double kHintSpread = 0.2;
+constexpr double kHintSpread = 0.35;
 
 // Up to `max_hints` closest known bugs within kHintDistance (and within
 // kHintSpread of the nearest), one per function, nearest first; none when the build fails nothing. `exclude`:

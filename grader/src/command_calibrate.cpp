@@ -150,7 +150,8 @@ void write_table(std::ostringstream& s, const Common& common, const std::vector<
                  const std::vector<std::vector<Tally>>& tally, int seeds, uint64_t first_seed,
                  pt::Clock::time_point t0) {
   const Rules rules = make_rules(read_cases(common.cases), common.references);
-  s << "# Calibration: false failures of correct builds\n\n"
+  s << "<!-- REFERENCE ONLY: measured on the reference and its legal variants; the starter kit leaves this table out -->\n"
+    << "# Calibration: false failures of correct builds\n\n"
     << "Each build was graded on every case at " << seeds << " seeds (" << first_seed << " to "
     << first_seed + uint64_t(seeds) - 1
     << "), none of them used to make the references; a deterministic case (normal shading at one sample per "

@@ -188,7 +188,8 @@ int command_hints(const Common& common, const std::string& table) {
   const Catalogue cat = read_catalogue(common.catalogue);
   double function_rate = 0, part_rate = 0;
   const std::string rows = leave_one_out_table(cat, case_groups(read_cases(common.cases)), &function_rate, &part_rate);
-  std::string s = "# Hints: does the grader name the right bug?\n\n"
+  std::string s = "<!-- REFERENCE ONLY: measured on the mutants; the starter kit leaves this table out -->\n"
+                  "# Hints: does the grader name the right bug?\n\n"
                   "Each known bug of the catalogue (`grader/known_bugs.json`: the mutants of "
                   "`instructors/mutants/`, graded at commit " + cat.commit + ") is left out of it in turn, and its own "
                   "signature is matched against the rest, as a student's build would be: up to three hints, one per "

@@ -70,6 +70,9 @@ std::vector<Expected> expected_scenes() {
   add({"CBspheres_lambertian.dae", 14, 2, area, with(box, MaterialType::Diffuse, 1), true, {}, "", {0, 0, 1}});
   add({"CBspheres.dae", 14, 2, area, with(with(box, MaterialType::Glass, 1), MaterialType::Mirror, 1), true, {},
        "", {0, 0, 1}});
+  // Part 6's glass block: six lone quads (12 triangles) and a diffuse sphere.
+  add({"CBglass_block.dae", 14 + 12, 1, area, with(with(box, MaterialType::Glass, 1), MaterialType::Diffuse, 1), true,
+       {}, "", {0, 0, 1}});
   add({"plane_arealight.dae", 2, 0, area, one_diffuse, false, {}, "plane-material",
        pt::normalize(pt::Vec3d(0, 1, 1))});
   add({"sphere_ambient.dae", 0, 1, ambient, one_diffuse, false, {}, "", {0, 0, 1}});
@@ -367,6 +370,7 @@ PROJECT_SCENE_TESTS("CBempty.dae")
 PROJECT_SCENE_TESTS("CBspheres_lambertian.dae")
 PROJECT_SCENE_TESTS("CBspheres.dae")
 PROJECT_SCENE_TESTS("plane_arealight.dae")
+PROJECT_SCENE_TESTS("CBglass_block.dae")
 PROJECT_SCENE_TESTS("sphere_ambient.dae")
 PROJECT_SCENE_TESTS("CBbunny.dae")
 PROJECT_SCENE_TESTS("CBdragon.dae")

@@ -43,16 +43,11 @@ inline Scene cb_spheres() {
   s.purpose = "Cornell box with the CGL area light, a glass sphere (front right) "
               "and a mirror sphere (back left)";
   add_cornell_box(s);
-  Material glass = diffuse("glass", {0.64, 0.64, 0.64});
-  glass.kind = MaterialKind::Glass;
-  glass.reflectance = {1, 1, 1};
-  glass.transmittance = {1, 1, 1};
-  glass.roughness = 0;
-  glass.ior = 1.45;  // the course's value for this scene
+  const Material clear = glass("glass", 1.45);  // the course's value for this scene
   Material mirror = diffuse("mirror", {0.64, 0.64, 0.64});
   mirror.kind = MaterialKind::Mirror;
   mirror.reflectance = {1, 1, 1};
-  s.materials.push_back(glass);
+  s.materials.push_back(clear);
   s.materials.push_back(mirror);
   add_cornell_area_light(s);
   s.spheres.push_back({"SphereFrontRight", "glass", kSphereFrontRight, kSphereRadius});
@@ -94,13 +89,7 @@ inline Scene cb_glass_block() {
   s.purpose = "Cornell box with the CGL area light, a glass block (index 1.5) turned 30 degrees "
               "(front left) and a diffuse sphere (back right)";
   add_cornell_box(s);
-  Material glass = diffuse("glass", {0.64, 0.64, 0.64});
-  glass.kind = MaterialKind::Glass;
-  glass.reflectance = {1, 1, 1};
-  glass.transmittance = {1, 1, 1};
-  glass.roughness = 0;
-  glass.ior = 1.5;
-  s.materials.push_back(glass);
+  s.materials.push_back(glass("glass", 1.5));
   s.materials.push_back(diffuse("lambertian", {0.8, 0.8, 0.8}));
   add_cornell_area_light(s);
   add_block(s, "block", "glass", {-0.3, 0.3, 0.2}, {0.25, 0.3, 0.25}, 30);

@@ -48,6 +48,16 @@ inline Material metal(const std::string& name, double alpha, Rgb eta, Rgb k, Rgb
   m.k = k;
   return m;
 }
+// CGL glass: clear (reflectance and transmittance 1), smooth, of index `ior`.
+inline Material glass(const std::string& name, double ior) {
+  Material m = diffuse(name, {0.64, 0.64, 0.64});
+  m.kind = MaterialKind::Glass;
+  m.reflectance = {1, 1, 1};
+  m.transmittance = {1, 1, 1};
+  m.roughness = 0;
+  m.ior = ior;
+  return m;
+}
 inline Material gold(const std::string& name, double alpha) {
   return metal(name, alpha, {0.1884, 0.3382, 1.347}, {3.278, 2.549, 1.832}, {0.8, 0.6, 0.2});
 }

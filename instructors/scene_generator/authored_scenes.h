@@ -129,12 +129,7 @@ inline Scene sphere_ambient() {
               "light of radiance 1; for exact tests";
   s.materials.push_back(diffuse("sphere", {0.5, 0.5, 0.5}));
   s.spheres.push_back({"Sphere", "sphere", {0, 0, 0}, 0.5});
-  Light l;
-  l.name = "AmbientLight";
-  l.kind = LightKind::Ambient;
-  l.color = {1, 1, 1};
-  l.node = zup_frame({0, 0, 0});
-  s.lights.push_back(l);
+  s.lights.push_back(ambient_light());
   s.camera = course_camera(s, {0, 0, 1});
   return s;
 }

@@ -145,12 +145,7 @@ inline Scene bunny_ambient(MeshLibrary& lib) {
   IndexedMesh m = lib.bunny();
   place_on_floor(m, 0, 1, 0.772, 0.002);
   s.meshes.push_back(scene_mesh("bunny", "bunny", m, true));
-  Light l;
-  l.name = "AmbientLight";
-  l.kind = LightKind::Ambient;
-  l.color = {1, 1, 1};
-  l.node = zup_frame({0, 0, 0});
-  s.lights.push_back(l);
+  s.lights.push_back(ambient_light());
   s.camera = course_camera(s, {0, 0.5, 1});
   return s;
 }

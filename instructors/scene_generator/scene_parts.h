@@ -183,6 +183,17 @@ inline Light point_light(const std::string& name, V3 at, Rgb intensity, double q
   return p;
 }
 
+// The course's uniform sky: an ambient light of radiance 1 (its node at the
+// origin; an ambient light has no position).
+inline Light ambient_light() {
+  Light l;
+  l.name = "AmbientLight";
+  l.kind = LightKind::Ambient;
+  l.color = {1, 1, 1};
+  l.node = zup_frame({0, 0, 0});
+  return l;
+}
+
 inline Mesh scene_mesh(const std::string& name, const std::string& material, const IndexedMesh& m, bool closed) {
   Mesh r;
   r.name = name;

@@ -4,6 +4,9 @@
 # touch different places, and correct code combined is still correct) must
 # score full marks, and a mutant planted on top of them must still lose
 # points. One copy, one build of its pathtracer, one incremental rebuild.
+# The mutant is graded only on the cases of its own part and later (of the
+# parts GRADER_RUN_ARGS name): `pathtracer --part N` runs stages 1..N, so a
+# bug in a later stage cannot change an earlier part's image.
 #
 #   instructors/legal_variants/graded_together.sh WORK [--variant NAME]... [--mutant NAME] [-- GRADER_RUN_ARGS...]
 #
@@ -13,7 +16,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 root=$(pwd)
-[ $# -ge 1 ] || { sed -n '2,13p' "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,16p' "$0"; exit 2; }
 work=$(realpath -m "$1")
 shift
 variants=() mutant="" grader_args=()
@@ -60,8 +63,31 @@ if [ -n "$mutant" ]; then
   apply_patch "$src" "$root/instructors/mutants/patches/$mutant.patch" \
     || { echo "graded_together.sh: mutant $mutant does not apply on top of the variants" >&2; exit 2; }
   build
-  echo "== mutant $mutant on top of them"
-  if "$grader" run -q --pathtracer "$work/build/bin/pathtracer" -o "$work/mutant.grade" "${grader_args[@]}" \
+  # Its own part and later: drop the earlier parts' --part options (or name
+  # the later parts when none was given).
+  first=$(first_part_of_patch "$root/instructors/mutants/patches/$mutant.patch")
+  mutant_args=() parts_named=0
+  i=0
+  while [ $i -lt ${#grader_args[@]} ]; do
+    a=${grader_args[$i]}
+    if [ "$a" = --part ] && [ $((i + 1)) -lt ${#grader_args[@]} ]; then
+      parts_named=1
+      n=${grader_args[$((i + 1))]}
+      [ "$n" -lt "$first" ] || mutant_args+=(--part "$n")
+      i=$((i + 2))
+    else
+      mutant_args+=("$a")
+      i=$((i + 1))
+    fi
+  done
+  if [ $parts_named = 0 ]; then
+    for n in $(seq "$first" 9); do mutant_args+=(--part "$n"); done
+  elif ! printf '%s\n' "${mutant_args[@]}" | grep -qx -- --part; then
+    echo "graded_together.sh: mutant $mutant is in part $first, after every part graded" >&2
+    exit 2
+  fi
+  echo "== mutant $mutant on top of them (parts $first and later)"
+  if "$grader" run -q --pathtracer "$work/build/bin/pathtracer" -o "$work/mutant.grade" "${mutant_args[@]}" \
        > "$work/mutant.log" 2>&1; then
     cat "$work/mutant.log"
     echo "graded_together.sh: mutant $mutant was not caught" >&2

@@ -1,0 +1,20 @@
+# Writes every environment map with make_sky into a scratch folder and
+# fails when one differs from the committed file in the scenes folder.
+#   cmake -DMAKE_SKY=... -DSCENES=... -DWORK=... -P check_sky.cmake
+file(MAKE_DIRECTORY "${WORK}")
+foreach(map IN ITEMS "sky_bands.exr;" "sky_sun.exr;--sun" "sky_wide_sun.exr;--wide-sun")
+  list(GET map 0 name)
+  list(LENGTH map n)
+  set(flag "")
+  if(n GREATER 1)
+    list(GET map 1 flag)
+  endif()
+  execute_process(COMMAND "${MAKE_SKY}" ${flag} "${WORK}/${name}" RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "make_sky ${flag} ${name} failed (${rc})")
+  endif()
+  execute_process(COMMAND "${CMAKE_COMMAND}" -E compare_files "${WORK}/${name}" "${SCENES}/${name}" RESULT_VARIABLE same)
+  if(NOT same EQUAL 0)
+    message(FATAL_ERROR "${SCENES}/${name} is not what make_sky ${flag} writes: run cmake --build build --target regenerate_sky")
+  endif()
+endforeach()

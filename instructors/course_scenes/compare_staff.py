@@ -39,8 +39,9 @@ What the test assumes, and what breaks it:
 --pseudo-staff SEED stands our own render at SEED (with --pseudo-staff-args
 added to its command; -s/-l/-m N there replace ours, e.g. "-s 16") in for the staff image: the check of
 the test itself, and what can be compared when no staff image is at hand.
---figure writes staff | our mean | difference (grey = 0, red = staff
-brighter, blue = darker, x8) with the flagged blocks outlined in yellow.
+--figure writes staff | our mean | the blocks' differences (grey = 0, red =
+staff brighter, blue = darker, full colour at 4 levels of 255), the flagged
+blocks outlined in yellow.
 """
 import argparse
 import math
@@ -227,9 +228,14 @@ def render(args, seed, out_png, extra_args=()):
 
 
 def figure(path, staff, mean, res):
-    d = 8 * (staff.mean(axis=2) - mean.mean(axis=2))
-    dimg = np.clip(np.stack([0.5 + d, 0.5 - np.abs(d), 0.5 - d], axis=2), 0, 1)
+    """staff | our mean | each block filled by staff - ours (mean of R, G, B):
+    grey 0, red staff brighter, blue darker, full at 4 levels of 255."""
+    dimg = np.zeros_like(staff)
     rows, cols = res["rejected"].shape[:2]
+    for r in range(rows):
+        for c in range(cols):
+            d = float(np.clip(255 * (res["y"][r, c] - res["m"][r, c]).mean() / 4, -1, 1)) * 0.5
+            dimg[res["ys"][r]:res["ys"][r + 1], res["xs"][c]:res["xs"][c + 1]] = (0.5 + d, 0.5 - abs(d), 0.5 - d)
     for r in range(rows):
         for c in range(cols):
             if res["rejected"][r, c].any():

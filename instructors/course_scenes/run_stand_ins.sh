@@ -28,7 +28,7 @@ trap 'rm -f "$tmp"' EXIT
 common="-s 64 -l 4 -m 7 -r 480 360 -K 8 --grid 8 6 --alpha 0.05 --markdown $tmp"
 run() { # name scene pseudo-args title
   $py "$root/instructors/course_scenes/compare_staff.py" --scene "$scenes/$2" --pseudo-staff 1 \
-    --pseudo-staff-args "$3" $common --figure "$figs/$1.png" --title "$4" >/dev/null
+    --pseudo-staff-args="$3" $common --figure "$figs/$1.png" --title "$4" >/dev/null
 }
 run A_spheres_null CBspheres.dae "" "A. CBspheres.dae, stand-in with our settings (no difference: false alarms)"
 run B_microfacet_null CBspheres_microfacet_al_ag.dae "" "B. CBspheres_microfacet_al_ag.dae, stand-in with our settings (no difference: false alarms)"

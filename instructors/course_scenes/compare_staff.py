@@ -63,10 +63,20 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 
 def read_png(path):
     """8- or 16-bit, non-interlaced PNG -> float array H x W x 3 in [0, 1]."""
-    with open(path, "rb") as f:
-        data = f.read()
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as e:
+        sys.exit(f"compare_staff: error: {path}: {e.strerror}")
     if data[:8] != b"\x89PNG\r\n\x1a\n":
         sys.exit(f"compare_staff: error: {path}: not a PNG file")
+    try:
+        return decode_png(data, path)
+    except (struct.error, zlib.error, ValueError, IndexError, NameError) as e:
+        sys.exit(f"compare_staff: error: {path}: damaged PNG ({type(e).__name__}: {e})")
+
+
+def decode_png(data, path):
     pos, idat, palette = 8, [], None
     while pos < len(data):
         length, kind = struct.unpack(">I4s", data[pos:pos + 8])
@@ -350,12 +360,12 @@ def main():
     ours = np.array(ours)
     res = compare(staff, ours, args.grid[0], args.grid[1], args.alpha)
     text = table(args, res, label, first_cmd)
-    print(text)
     if args.figure:
         figure(args.figure, staff, ours.mean(axis=0), res)
     if args.markdown:
         with open(args.markdown, "a") as f:
             f.write(text + "\n")
+    print(text)
 
 
 if __name__ == "__main__":

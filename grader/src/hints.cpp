@@ -227,8 +227,11 @@ namespace {
 // From candidates sorted nearest first: up to max_hints within
 // kHintDistance, and beyond the nearest only bugs nearly as near (a second
 // guess far behind a close first one is noise, not help), one per function.
-std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& build, int max_hints) {
-  std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
+// `sorted`: already in the order wanted (not only by distance).
+std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& build, int max_hints,
+                               bool sorted = false) {
+  if (!sorted)
+    std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
   std::vector<Hint> out;
   std::set<std::string> functions;
   for (Hint& h : all) {
@@ -245,16 +248,42 @@ std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& buil
 
 }  // namespace
 
+int earliest_failing_part(const BuildSignature& build, const CaseGroups& groups) {
+  int earliest = 0;
+  for (const auto& [name, c] : build) {
+    if (!c.failed) continue;
+    const auto g = groups.find(name);
+    if (g == groups.end()) continue;
+    for (const std::string& group : g->second)
+      if (group.rfind("part", 0) == 0) {
+        const int part = std::atoi(group.c_str() + 4);
+        if (part > 0 && (earliest == 0 || part < earliest)) earliest = part;
+      }
+  }
+  return earliest;
+}
+
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
                               int max_hints, const std::string& exclude) {
   std::vector<Hint> all;
   const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
   if (!fails) return all;
+  // A case of part k runs stages 1..k only (--part k): a bug in a later
+  // part cannot have failed it. Such bugs come after every bug that could,
+  // whatever their distances (they stay candidates: a case can fail by
+  // chance).
+  const int earliest = earliest_failing_part(build, groups);
+  std::vector<Hint> possible, later;
   for (const KnownBug& bug : catalogue.bugs) {
     if (bug.name == exclude) continue;
-    all.push_back(Hint{&bug, signature_distance(build, bug.cases, groups), ""});
+    const Hint h{&bug, signature_distance(build, bug.cases, groups), "", ""};
+    (earliest > 0 && bug.part > earliest ? later : possible).push_back(h);
   }
-  return select_hints(std::move(all), build, max_hints);
+  std::stable_sort(possible.begin(), possible.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
+  std::stable_sort(later.begin(), later.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
+  all = std::move(possible);
+  all.insert(all.end(), later.begin(), later.end());
+  return select_hints(std::move(all), build, max_hints, /*sorted=*/true);
 }
 
 // One case: only the bugs that fail it are candidates, and the distance is
@@ -269,7 +298,7 @@ std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseS
   for (const KnownBug& bug : catalogue.bugs) {
     const auto it = bug.cases.find(case_name);
     if (it == bug.cases.end() || !it->second.failed) continue;
-    all.push_back(Hint{&bug, case_distance(&figures, &it->second), ""});
+    all.push_back(Hint{&bug, case_distance(&figures, &it->second), "", ""});
   }
   return select_hints(std::move(all), build, max_hints);
 }

@@ -178,6 +178,25 @@ TEST_CASE("Hints: leave-one-out names the right function when another bug of it 
   CHECK(part_rate >= function_rate);
 }
 
+// A case of part 3 runs stages 1..3 only: a bug of part 4 cannot fail it,
+// however alike its signature.
+TEST_CASE("Hints: a bug of a part after the earliest failing case's comes after every bug that could fail it",
+          "[grader]") {
+  Catalogue cat = catalogue();
+  cat.bugs.push_back(bug("bounce_dark", 4, "sample_bounce", "dark",
+                         {{"p3_spheres_light", failing(0.6)}, {"p4_m2", failing(0.6)}}));
+  const CaseGroups groups = case_groups(kCases);
+  const BuildSignature build = {{"p3_spheres_light", failing(0.6)}, {"p4_m2", failing(0.6)}};
+  CHECK(earliest_failing_part(build, groups) == 3);
+  CHECK(earliest_failing_part({{"p3_spheres_light", CaseSignature{}}}, groups) == 0);  // fails nothing
+  // bounce_dark's signature is the build's own, sphere_root's is not.
+  REQUIRE(signature_distance(build, cat.bugs.back().cases, groups) == 0.0);
+  REQUIRE(signature_distance(build, cat.bugs[3].cases, groups) > 0.0);
+  const std::vector<Hint> hints = likely_bugs(build, cat, groups);
+  REQUIRE(!hints.empty());
+  CHECK(hints[0].bug->name == "sphere_root");
+}
+
 TEST_CASE("The catalogue refuses a malformed file, naming it", "[grader]") {
   CHECK_THROWS_WITH(read_catalogue("/nonexistent/known_bugs.json"), Catch::Contains("/nonexistent/known_bugs.json"));
 }

@@ -54,6 +54,15 @@ double case_distance(const CaseSignature* a, const CaseSignature* b) {
   for (const char* key : kRegions)
     where += std::fabs((log_ratio(*a, key) - log_ratio(*a, "mean_ratio")) -
                        (log_ratio(*b, key) - log_ratio(*b, "mean_ratio")));
+  // The grid's cells are regions too: where in the picture it moved (a
+  // catalogue made before the grid has none, and they count for nothing).
+  for (int r = 0; r < kGridSide; ++r)
+    for (int col = 0; col < kGridSide; ++col) {
+      const std::string key = grid_key(r, col);
+      if (!a->figures.count(key) || !b->figures.count(key)) continue;
+      where += std::fabs((log_ratio(*a, key.c_str()) - log_ratio(*a, "mean_ratio")) -
+                         (log_ratio(*b, key.c_str()) - log_ratio(*b, "mean_ratio")));
+    }
   where = std::min(1.0, where / 2.0);
   const unsigned x = failure_bits(*a) ^ failure_bits(*b);
   const double what = x == 0 ? 0.0 : 1.0;

@@ -247,3 +247,40 @@ TEST_CASE("The noise bound grows per bounce only where a case keeps paths of exa
         Approx(4.0 * 1.5 * 1.5 * 1.5 * 1.5));
   CHECK(rules.noise_bound_for(make_case("p4o1", 4, "CBspheres_lambertian.dae", {"-m", "5", "-o", "1"})) == Approx(4.0));
 }
+
+TEST_CASE("Signature: the grid says where in the picture the image moved", "[grader]") {
+  // 90 x 60, every pixel 1; the candidate twice as bright in the upper-left
+  // ninth (rows are stored from the bottom).
+  ImageBuffer ref(90, 60), cand(90, 60);
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 90; ++x) {
+      ref.at(x, y) = pt::Color(1, 1, 1);
+      cand.at(x, y) = x < 30 && y >= 40 ? pt::Color(2, 2, 2) : pt::Color(1, 1, 1);
+    }
+  const Signature s = image_signature(cand, ref, ImageScore{});
+  REQUIRE(s.count(grid_key(0, 0)) == 1);
+  CHECK(s.at(grid_key(0, 0)) == Approx(2.0));
+  CHECK(s.at(grid_key(2, 0)) == Approx(1.0));  // lower-left
+  CHECK(s.at(grid_key(0, 2)) == Approx(1.0));  // upper-right
+  CHECK(s.at("mean_ratio") == Approx(10.0 / 9.0));
+}
+
+TEST_CASE("Hints: of two bugs alike but for where the image moved, the one that moved it where the build did is nearer",
+          "[grader]") {
+  const auto moved = [](int row, int column) {
+    CaseSignature c = failing(1.2);
+    for (int r = 0; r < kGridSide; ++r)
+      for (int k = 0; k < kGridSide; ++k) c.figures[grid_key(r, k)] = r == row && k == column ? 2.8 : 1.0;
+    return c;
+  };
+  Catalogue cat;
+  cat.bugs = {bug("bright_ceiling", 3, "f_ceiling", "ceiling", {{"p3_spheres_light", moved(0, 1)}}),
+              bug("bright_floor", 3, "f_floor", "floor", {{"p3_spheres_light", moved(2, 1)}})};
+  const CaseGroups groups = case_groups(kCases);
+  const BuildSignature build = {{"p3_spheres_light", moved(2, 1)}};
+  CHECK(signature_distance(build, cat.bugs[1].cases, groups) <
+        signature_distance(build, cat.bugs[0].cases, groups));
+  const std::vector<Hint> hints = likely_bugs(build, cat, groups);
+  REQUIRE(!hints.empty());
+  CHECK(hints[0].bug->name == "bright_floor");
+}

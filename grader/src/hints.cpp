@@ -236,11 +236,8 @@ namespace {
 // From candidates sorted nearest first: up to max_hints within
 // kHintDistance, and beyond the nearest only bugs nearly as near (a second
 // guess far behind a close first one is noise, not help), one per function.
-// `sorted`: already in the order wanted (not only by distance).
-std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& build, int max_hints,
-                               bool sorted = false) {
-  if (!sorted)
-    std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
+std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& build, int max_hints) {
+  std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
   std::vector<Hint> out;
   std::set<std::string> functions;
   for (Hint& h : all) {
@@ -274,13 +271,11 @@ int earliest_failing_part(const BuildSignature& build, const CaseGroups& groups)
 
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
                               int max_hints, const std::string& exclude) {
-  std::vector<Hint> all;
   const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
-  if (!fails) return all;
+  if (!fails) return {};
   // A case of part k runs stages 1..k only (--part k): a bug in a later
-  // part cannot have failed it. Such bugs come after every bug that could,
-  // whatever their distances (they stay candidates: a case can fail by
-  // chance).
+  // part cannot have failed it. Such bugs are named only when no bug that
+  // could have is near (a case can fail by chance).
   const int earliest = earliest_failing_part(build, groups);
   std::vector<Hint> possible, later;
   for (const KnownBug& bug : catalogue.bugs) {
@@ -288,11 +283,8 @@ std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& cata
     const Hint h{&bug, signature_distance(build, bug.cases, groups), "", ""};
     (earliest > 0 && bug.part > earliest ? later : possible).push_back(h);
   }
-  std::stable_sort(possible.begin(), possible.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
-  std::stable_sort(later.begin(), later.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
-  all = std::move(possible);
-  all.insert(all.end(), later.begin(), later.end());
-  return select_hints(std::move(all), build, max_hints, /*sorted=*/true);
+  std::vector<Hint> hints = select_hints(std::move(possible), build, max_hints);
+  return hints.empty() ? select_hints(std::move(later), build, max_hints) : hints;
 }
 
 // One case: only the bugs that fail it are candidates, and the distance is

@@ -81,8 +81,8 @@ int earliest_failing_part(const BuildSignature& build, const CaseGroups& groups)
 
 // Up to `max_hints` closest known bugs within kHintDistance (and within
 // kHintSpread of the nearest), one per function, nearest first; none when the build fails nothing. Bugs of a
-// part after earliest_failing_part come after all the others, however
-// near. `exclude`: a bug left out (the leave-one-out evaluation).
+// part after earliest_failing_part are named only when no other bug is
+// within kHintDistance. `exclude`: a bug left out (the leave-one-out evaluation).
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
                               int max_hints = 3, const std::string& exclude = "");
 

@@ -180,7 +180,7 @@ TEST_CASE("Hints: leave-one-out names the right function when another bug of it 
 
 // A case of part 3 runs stages 1..3 only: a bug of part 4 cannot fail it,
 // however alike its signature.
-TEST_CASE("Hints: a bug of a part after the earliest failing case's comes after every bug that could fail it",
+TEST_CASE("Hints: a bug of a part after the earliest failing case's is not named while a bug that could fail it is near",
           "[grader]") {
   Catalogue cat = catalogue();
   cat.bugs.push_back(bug("bounce_dark", 4, "sample_bounce", "dark",
@@ -195,6 +195,22 @@ TEST_CASE("Hints: a bug of a part after the earliest failing case's comes after 
   const std::vector<Hint> hints = likely_bugs(build, cat, groups);
   REQUIRE(!hints.empty());
   CHECK(hints[0].bug->name == "sphere_root");
+  for (const Hint& h : hints) CHECK(h.bug->part <= 3);
+}
+
+// A case can fail by chance: when no bug that could have failed the
+// earliest failing case is near, a near bug of a later part still speaks.
+TEST_CASE("Hints: a near bug of a later part is named when no bug of the earlier parts is near", "[grader]") {
+  Catalogue cat;
+  cat.bugs = {bug("hemisphere_pdf", 3, "estimate_direct_lighting_hemisphere", "-H off",
+                  {{"p3_spheres_hemisphere", failing(0.5)}}),
+              bug("bounce_dark", 4, "sample_bounce", "dark", {{"p3_spheres_light", failing(0.6)}, {"p4_m2", failing(0.6)}})};
+  const CaseGroups groups = case_groups(kCases);
+  const BuildSignature build = {{"p3_spheres_light", failing(0.6)}, {"p4_m2", failing(0.6)}};
+  REQUIRE(signature_distance(build, cat.bugs[0].cases, groups) > kHintDistance);
+  const std::vector<Hint> hints = likely_bugs(build, cat, groups);
+  REQUIRE(hints.size() == 1);
+  CHECK(hints[0].bug->name == "bounce_dark");
 }
 
 TEST_CASE("The catalogue refuses a malformed file, naming it", "[grader]") {

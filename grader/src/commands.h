@@ -75,6 +75,10 @@ std::vector<std::string> run_hints(const Common& common, const std::vector<CaseR
 // malformed) when it cannot be read.
 Catalogue hint_catalogue(const Common& common);
 int command_hints(const Common& common, const std::string& table);
+// Rewrites each graded folder's cases/<case>/result.json into
+// out/<folder name>/ with the image figures of its signature made again
+// from its kept renders; nothing else changes.
+int command_rescore(const Common& common, const std::vector<std::string>& grade_dirs, const std::string& out);
 int command_merge(const Common& common, const std::string& out, const std::vector<std::string>& shard_dirs);
 int command_compare(const Common& common, bool list, const std::string& name, const std::vector<std::string>& files,
                     const std::string& out);

@@ -54,6 +54,15 @@ double case_distance(const CaseSignature* a, const CaseSignature* b) {
   for (const char* key : kRegions)
     where += std::fabs((log_ratio(*a, key) - log_ratio(*a, "mean_ratio")) -
                        (log_ratio(*b, key) - log_ratio(*b, "mean_ratio")));
+  // The grid's cells are regions too: where in the picture it moved (a
+  // catalogue made before the grid has none, and they count for nothing).
+  for (int r = 0; r < kGridSide; ++r)
+    for (int col = 0; col < kGridSide; ++col) {
+      const std::string key = grid_key(r, col);
+      if (!a->figures.count(key) || !b->figures.count(key)) continue;
+      where += std::fabs((log_ratio(*a, key.c_str()) - log_ratio(*a, "mean_ratio")) -
+                         (log_ratio(*b, key.c_str()) - log_ratio(*b, "mean_ratio")));
+    }
   where = std::min(1.0, where / 2.0);
   const unsigned x = failure_bits(*a) ^ failure_bits(*b);
   const double what = x == 0 ? 0.0 : 1.0;
@@ -245,16 +254,37 @@ std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& buil
 
 }  // namespace
 
+int earliest_failing_part(const BuildSignature& build, const CaseGroups& groups) {
+  int earliest = 0;
+  for (const auto& [name, c] : build) {
+    if (!c.failed) continue;
+    const auto g = groups.find(name);
+    if (g == groups.end()) continue;
+    for (const std::string& group : g->second)
+      if (group.rfind("part", 0) == 0) {
+        const int part = std::atoi(group.c_str() + 4);
+        if (part > 0 && (earliest == 0 || part < earliest)) earliest = part;
+      }
+  }
+  return earliest;
+}
+
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
                               int max_hints, const std::string& exclude) {
-  std::vector<Hint> all;
   const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
-  if (!fails) return all;
+  if (!fails) return {};
+  // A case of part k runs stages 1..k only (--part k): a bug in a later
+  // part cannot have failed it. Such bugs are named only when no bug that
+  // could have is near (a case can fail by chance).
+  const int earliest = earliest_failing_part(build, groups);
+  std::vector<Hint> possible, later;
   for (const KnownBug& bug : catalogue.bugs) {
     if (bug.name == exclude) continue;
-    all.push_back(Hint{&bug, signature_distance(build, bug.cases, groups), ""});
+    const Hint h{&bug, signature_distance(build, bug.cases, groups), "", ""};
+    (earliest > 0 && bug.part > earliest ? later : possible).push_back(h);
   }
-  return select_hints(std::move(all), build, max_hints);
+  std::vector<Hint> hints = select_hints(std::move(possible), build, max_hints);
+  return hints.empty() ? select_hints(std::move(later), build, max_hints) : hints;
 }
 
 // One case: only the bugs that fail it are candidates, and the distance is
@@ -269,7 +299,7 @@ std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseS
   for (const KnownBug& bug : catalogue.bugs) {
     const auto it = bug.cases.find(case_name);
     if (it == bug.cases.end() || !it->second.failed) continue;
-    all.push_back(Hint{&bug, case_distance(&figures, &it->second), ""});
+    all.push_back(Hint{&bug, case_distance(&figures, &it->second), "", ""});
   }
   return select_hints(std::move(all), build, max_hints);
 }

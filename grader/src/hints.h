@@ -74,9 +74,15 @@ constexpr double kHintDistance = 0.7;
 // Further hints only within this much of the nearest one's distance.
 constexpr double kHintSpread = 0.35;
 
+// The lowest part of the build's failing cases (0 when none fails or the
+// groups name no part). A case of part k runs stages 1..k only, so a bug
+// in a later part cannot have failed it.
+int earliest_failing_part(const BuildSignature& build, const CaseGroups& groups);
+
 // Up to `max_hints` closest known bugs within kHintDistance (and within
-// kHintSpread of the nearest), one per function, nearest first; none when the build fails nothing. `exclude`:
-// a bug left out (the leave-one-out evaluation).
+// kHintSpread of the nearest), one per function, nearest first; none when the build fails nothing. Bugs of a
+// part after earliest_failing_part are named only when no other bug is
+// within kHintDistance. `exclude`: a bug left out (the leave-one-out evaluation).
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
                               int max_hints = 3, const std::string& exclude = "");
 

@@ -30,6 +30,8 @@ struct Options {
   bool list = false;
   std::vector<std::string> shard_dirs;  // merge
   bool leave_one_out = false;  // hints
+  std::vector<std::string> grade_dirs;  // rescore
+  std::string rescore_out;
   std::string hints_table = std::string(PT_SOURCE_DIR) + "/grader/tables/hints.md";
 };
 
@@ -102,6 +104,17 @@ CLI::App* add_merge(CLI::App& app, Common& common, Options& o) {
   return merge;
 }
 
+CLI::App* add_rescore(CLI::App& app, Common& common, Options& o) {
+  CLI::App* rescore = app.add_subcommand(
+      "rescore", "Make graded folders' signatures again from their kept renders and the references (no rendering)");
+  rescore->add_option("grade_dirs", o.grade_dirs, "Output folders of `grader run`")->required();
+  rescore->add_option("-o,--out", o.rescore_out, "Where each folder's rescored cases/<case>/result.json go")
+      ->required();
+  rescore->add_option("--cases", common.cases, "The case list")->capture_default_str();
+  rescore->add_option("--references", common.references, "The reference folder")->capture_default_str();
+  return rescore;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -115,6 +128,7 @@ int main(int argc, char** argv) {
   CLI::App* compare = add_compare(app, common, o);
   CLI::App* merge = add_merge(app, common, o);
   CLI::App* hints = add_hints(app, common, o);
+  CLI::App* rescore = add_rescore(app, common, o);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -138,6 +152,7 @@ int main(int argc, char** argv) {
     }
     if (*merge) return command_merge(common, o.out, o.shard_dirs);
     if (*hints) return command_hints(common, o.hints_table);
+    if (*rescore) return command_rescore(common, o.grade_dirs, o.rescore_out);
     if (*compare) return command_compare(common, o.list, o.compare_case, o.compare_files, o.compare_out);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grader: %s\n", e.what());

@@ -49,11 +49,13 @@ Signature image_signature(const ImageBuffer& cand, const ImageBuffer& ref, const
     }
   const double bright = quantile(lit, 0.9), dark = quantile(lit, 0.3), edge = quantile(grad, 0.85);
   Region all, rb, rd, rm, re, rf, rt, rbot, rblack;
+  Region grid[kGridSide][kGridSide];  // [row from the top][column]
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       const double cv = lum(cand.at(x, y)), mv = L[i];
       all.add(cv, mv);
+      grid[(h - 1 - y) * kGridSide / h][x * kGridSide / w].add(cv, mv);
       (y >= h / 2 ? rt : rbot).add(cv, mv);  // rows from the bottom: the upper half has large y
       if (mv <= black) {
         rblack.add(cv, mv);
@@ -71,12 +73,19 @@ Signature image_signature(const ImageBuffer& cand, const ImageBuffer& ref, const
   put_ratio(&s, "ratio_flat", rf, floor * 0.1);
   put_ratio(&s, "ratio_top", rt, floor * 0.1);
   put_ratio(&s, "ratio_bottom", rbot, floor * 0.1);
+  for (int r = 0; r < kGridSide; ++r)
+    for (int c = 0; c < kGridSide; ++c)
+      put_ratio(&s, grid_key(r, c).c_str(), grid[r][c], floor * 0.1 / (kGridSide * kGridSide));
   if (all.m > floor) s["light_in_black"] = rblack.c / all.m;
   if (score.channels_tested > 0) s["failed_fraction"] = double(score.channels_failed) / score.channels_tested;
   if (score.noise_ratio >= 0) s["noise_ratio"] = score.noise_ratio;
   if (score.mean_tested)
     for (int c = 0; c < 3; ++c) s["mean_z_" + std::to_string(c)] = score.mean_z[c];
   return s;
+}
+
+std::string grid_key(int row, int column) {
+  return "ratio_cell_" + std::to_string(row) + "_" + std::to_string(column);
 }
 
 }  // namespace grader

@@ -26,12 +26,20 @@ using Signature = std::map<std::string, double>;
 //   ratio_edges, ratio_flat over pixels where the reference changes
 //                           sharply (the top 15 % of its gradient) and the rest
 //   ratio_top, ratio_bottom over the image's upper and lower halves
+//   ratio_cell_R_C          the same over a kGridSide x kGridSide grid of
+//                           the image (R: row from the top, C: column from
+//                           the left): where in the picture the difference
+//                           is (one corner of the box, the floor, the sky)
 //   light_in_black          the candidate's mean where the reference is
 //                           black (sky beyond a scene, the back of the cow),
 //                           over the reference's whole mean
 //   failed_fraction         pixel channels beyond the threshold
 //   noise_ratio, mean_z_0..2 from the score
 // A ratio whose reference sum is (nearly) zero is left out.
+constexpr int kGridSide = 3;
+// "ratio_cell_R_C".
+std::string grid_key(int row, int column);
+
 Signature image_signature(const ImageBuffer& candidate_mean, const ImageBuffer& reference_mean,
                           const ImageScore& score);
 

@@ -178,6 +178,41 @@ TEST_CASE("Hints: leave-one-out names the right function when another bug of it 
   CHECK(part_rate >= function_rate);
 }
 
+// A case of part 3 runs stages 1..3 only: a bug of part 4 cannot fail it,
+// however alike its signature.
+TEST_CASE("Hints: a bug of a part after the earliest failing case's is not named while a bug that could fail it is near",
+          "[grader]") {
+  Catalogue cat = catalogue();
+  cat.bugs.push_back(bug("bounce_dark", 4, "sample_bounce", "dark",
+                         {{"p3_spheres_light", failing(0.6)}, {"p4_m2", failing(0.6)}}));
+  const CaseGroups groups = case_groups(kCases);
+  const BuildSignature build = {{"p3_spheres_light", failing(0.6)}, {"p4_m2", failing(0.6)}};
+  CHECK(earliest_failing_part(build, groups) == 3);
+  CHECK(earliest_failing_part({{"p3_spheres_light", CaseSignature{}}}, groups) == 0);  // fails nothing
+  // bounce_dark's signature is the build's own, sphere_root's is not.
+  REQUIRE(signature_distance(build, cat.bugs.back().cases, groups) == 0.0);
+  REQUIRE(signature_distance(build, cat.bugs[3].cases, groups) > 0.0);
+  const std::vector<Hint> hints = likely_bugs(build, cat, groups);
+  REQUIRE(!hints.empty());
+  CHECK(hints[0].bug->name == "sphere_root");
+  for (const Hint& h : hints) CHECK(h.bug->part <= 3);
+}
+
+// A case can fail by chance: when no bug that could have failed the
+// earliest failing case is near, a near bug of a later part still speaks.
+TEST_CASE("Hints: a near bug of a later part is named when no bug of the earlier parts is near", "[grader]") {
+  Catalogue cat;
+  cat.bugs = {bug("hemisphere_pdf", 3, "estimate_direct_lighting_hemisphere", "-H off",
+                  {{"p3_spheres_hemisphere", failing(0.5)}}),
+              bug("bounce_dark", 4, "sample_bounce", "dark", {{"p3_spheres_light", failing(0.6)}, {"p4_m2", failing(0.6)}})};
+  const CaseGroups groups = case_groups(kCases);
+  const BuildSignature build = {{"p3_spheres_light", failing(0.6)}, {"p4_m2", failing(0.6)}};
+  REQUIRE(signature_distance(build, cat.bugs[0].cases, groups) > kHintDistance);
+  const std::vector<Hint> hints = likely_bugs(build, cat, groups);
+  REQUIRE(hints.size() == 1);
+  CHECK(hints[0].bug->name == "bounce_dark");
+}
+
 TEST_CASE("The catalogue refuses a malformed file, naming it", "[grader]") {
   CHECK_THROWS_WITH(read_catalogue("/nonexistent/known_bugs.json"), Catch::Contains("/nonexistent/known_bugs.json"));
 }
@@ -227,4 +262,41 @@ TEST_CASE("The noise bound grows per bounce only where a case keeps paths of exa
   CHECK(rules.noise_bound_for(make_case("p4o5", 4, "CBspheres_lambertian.dae", {"-m", "5", "-o", "0"})) ==
         Approx(4.0 * 1.5 * 1.5 * 1.5 * 1.5));
   CHECK(rules.noise_bound_for(make_case("p4o1", 4, "CBspheres_lambertian.dae", {"-m", "5", "-o", "1"})) == Approx(4.0));
+}
+
+TEST_CASE("Signature: the grid says where in the picture the image moved", "[grader]") {
+  // 90 x 60, every pixel 1; the candidate twice as bright in the upper-left
+  // ninth (rows are stored from the bottom).
+  ImageBuffer ref(90, 60), cand(90, 60);
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 90; ++x) {
+      ref.at(x, y) = pt::Color(1, 1, 1);
+      cand.at(x, y) = x < 30 && y >= 40 ? pt::Color(2, 2, 2) : pt::Color(1, 1, 1);
+    }
+  const Signature s = image_signature(cand, ref, ImageScore{});
+  REQUIRE(s.count(grid_key(0, 0)) == 1);
+  CHECK(s.at(grid_key(0, 0)) == Approx(2.0));
+  CHECK(s.at(grid_key(2, 0)) == Approx(1.0));  // lower-left
+  CHECK(s.at(grid_key(0, 2)) == Approx(1.0));  // upper-right
+  CHECK(s.at("mean_ratio") == Approx(10.0 / 9.0));
+}
+
+TEST_CASE("Hints: of two bugs alike but for where the image moved, the one that moved it where the build did is nearer",
+          "[grader]") {
+  const auto moved = [](int row, int column) {
+    CaseSignature c = failing(1.2);
+    for (int r = 0; r < kGridSide; ++r)
+      for (int k = 0; k < kGridSide; ++k) c.figures[grid_key(r, k)] = r == row && k == column ? 2.8 : 1.0;
+    return c;
+  };
+  Catalogue cat;
+  cat.bugs = {bug("bright_ceiling", 3, "f_ceiling", "ceiling", {{"p3_spheres_light", moved(0, 1)}}),
+              bug("bright_floor", 3, "f_floor", "floor", {{"p3_spheres_light", moved(2, 1)}})};
+  const CaseGroups groups = case_groups(kCases);
+  const BuildSignature build = {{"p3_spheres_light", moved(2, 1)}};
+  CHECK(signature_distance(build, cat.bugs[1].cases, groups) <
+        signature_distance(build, cat.bugs[0].cases, groups));
+  const std::vector<Hint> hints = likely_bugs(build, cat, groups);
+  REQUIRE(!hints.empty());
+  CHECK(hints[0].bug->name == "bright_floor");
 }

@@ -504,7 +504,7 @@ TEST_CASE("compare: a PFM that differs names the likely cause from the known bug
   // The project's own case list, references and catalogue. Case
   // p3_spheres_light's reference mean times pi is what a diffuse BSDF that
   // forgets to divide the albedo by pi renders (grader/known_bugs.json:
-  // albedo_not_over_pi, in bsdf_f).
+  // albedo_not_over_pi, in the function the catalogue names).
   const fs::path root = fs::path(PT_PROJECT_SCENES).parent_path();
   pt::test::TempDir tmp;
   const auto grader = [&](const std::string& file, const std::string& catalogue) {
@@ -514,6 +514,11 @@ TEST_CASE("compare: a PFM that differs names the likely cause from the known bug
                        {});
   };
   const std::string known_bugs = (root / "grader/known_bugs.json").string();
+  std::string function;
+  const JsonValue catalogue = parse_json_file(known_bugs);
+  for (const JsonValue& b : catalogue.at("bugs").array)
+    if (b.at("name").string == "albedo_not_over_pi") function = b.at("function").string;
+  REQUIRE(!function.empty());
   const pt::ImageBuffer mean = pt::read_pfm((root / "reference_images/p3_spheres_light/mean.pfm").string());
   pt::ImageBuffer times_pi = mean;
   for (pt::Color& c : times_pi.pixels) c = c * 3.14159265f;
@@ -530,13 +535,13 @@ TEST_CASE("compare: a PFM that differs names the likely cause from the known bug
   const size_t at = differs.out.find(first) + 1;
   const std::string line = differs.out.substr(at, differs.out.find('\n', at) - at);
   CHECK_THAT(line, Contains("every lit image is too bright by about pi (image x3.1)") &&
-                       EndsWith("(bsdf_f in common/bsdf.h; read stages/part3_direct_lighting/README.md "
+                       EndsWith("(" + function + " in common/bsdf.h; read stages/part3_direct_lighting/README.md "
                                 "(\"Given code\"))"));
   int hints = 0;
   for (size_t p = 0; (p = differs.out.find("\nLikely cause ", p)) != std::string::npos; ++p) ++hints;
   CHECK(hints <= 3);
   CHECK_THAT(slurp(tmp.file("cmp/compare_p3_spheres_light.html")),
-             Contains("<p class=\"hint\">Likely cause 1 of ") && Contains("(bsdf_f in common/bsdf.h;"));
+             Contains("<p class=\"hint\">Likely cause 1 of ") && Contains("(" + function + " in common/bsdf.h;"));
 
   const Run same = grader(mean_pfm, known_bugs);
   check_finished(same, 0);

@@ -11,13 +11,11 @@ float microfacet_Lambda(const Material& m, const Vec3& w) {
   // a = 1 / (alpha tan theta) = cos / (alpha sin), sin theta from w's x
   // and y (1 - cos^2 loses its digits near the normal, where a is
   // infinite and Lambda 0).
-  const float sin2 = w.x * w.x + w.y * w.y;
+  const float a = w.z / (m.alpha * std::sqrt(w.x * w.x + w.y * w.y));
   // Past a = 4, Lambda is below 3e-10, which 1 + Lambda in float cannot
   // show: no masking, and no erf and exp to compute (most directions of a
-  // smooth surface). a > 4 is cos^2 > 16 alpha^2 sin^2 for cos > 0: tested
-  // on the squares, it needs no square root or division either.
-  if (w.z > 0.0f && w.z * w.z > 16.0f * m.alpha * m.alpha * sin2) return 0.0f;
-  const float a = w.z / (m.alpha * std::sqrt(sin2));
+  // smooth surface).
+  if (a > 4.0f) return 0.0f;
   constexpr float kSqrtPi = 1.7724538509f;
   if (!(a > 0.0f)) return 0.5f * (std::erf(a) - 1.0f) + std::exp(-a * a) / (2.0f * a * kSqrtPi);
   // erf(a) - 1 = -erfc(a) = -t P(t) exp(-a^2), t = 1 / (1 + p a), to within

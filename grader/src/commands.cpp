@@ -1,5 +1,6 @@
 #include "grader/src/commands.h"
 
+#include <CLI/CLI.hpp>
 #include <unistd.h>
 
 #include <cstdio>

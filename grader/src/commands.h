@@ -3,7 +3,6 @@
 // parses the command line and calls one of them.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
@@ -15,6 +14,12 @@
 #include "grader/src/case_result.h"
 #include "grader/src/hints.h"
 #include "grader/src/run_case.h"
+
+// CLI11 is included only where the command line is built (main.cpp and
+// commands.cpp): it is the slowest header of the grader to compile.
+namespace CLI {
+class App;
+}
 
 namespace grader {
 namespace cli {

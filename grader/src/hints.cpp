@@ -283,8 +283,24 @@ std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& cata
     const Hint h{&bug, signature_distance(build, bug.cases, groups), "", ""};
     (earliest > 0 && bug.part > earliest ? later : possible).push_back(h);
   }
-  std::vector<Hint> hints = select_hints(std::move(possible), build, max_hints);
-  return hints.empty() ? select_hints(std::move(later), build, max_hints) : hints;
+  std::vector<Hint> hints = select_hints(possible, build, max_hints);
+  if (hints.empty()) return select_hints(std::move(later), build, max_hints);
+  // A bug of an earlier part usually fails that part's cases too: a build
+  // whose earliest failing case is of part k most often has its bug in part
+  // k. When no hint is of part k, the nearest bug of part k joins them (in
+  // the last place when they are full), if it is nearly as near as the first.
+  if (earliest > 0 &&
+      std::none_of(hints.begin(), hints.end(), [&](const Hint& h) { return h.bug->part == earliest; })) {
+    std::vector<Hint> own;
+    for (const Hint& h : possible)
+      if (h.bug->part == earliest) own.push_back(h);
+    std::vector<Hint> best_own = select_hints(std::move(own), build, 1);
+    if (!best_own.empty() && best_own.front().distance <= hints.front().distance + kHintSpread) {
+      if (int(hints.size()) == max_hints) hints.pop_back();
+      hints.push_back(best_own.front());
+    }
+  }
+  return hints;
 }
 
 // One case: only the bugs that fail it are candidates, and the distance is

@@ -213,6 +213,34 @@ TEST_CASE("Hints: a near bug of a later part is named when no bug of the earlier
   CHECK(hints[0].bug->name == "bounce_dark");
 }
 
+// A bug of an earlier part usually fails that part's cases too: when every
+// failing case is of part 4, a near bug of part 4 is among the hints even if
+// bugs of earlier parts are nearer; a far one is not.
+TEST_CASE("Hints: the nearest bug of the earliest failing part is among them when it is nearly as near", "[grader]") {
+  const BuildSignature build = {{"p4_m2", failing(0.6)}, {"p4_m5", failing(0.6)}};
+  const BuildSignature alike = build;
+  Catalogue cat;
+  cat.bugs = {bug("camera_a", 1, "generate_ray", "a", alike), bug("bvh_b", 2, "BVH::intersect", "b", alike),
+              bug("light_c", 3, "estimate_direct_lighting_importance", "c", alike),
+              bug("loop_d", 4, "at_least_one_bounce_radiance", "d", {{"p4_m2", failing(0.5)}, {"p4_m5", failing(0.5)}})};
+  const CaseGroups groups = case_groups(kCases);
+  REQUIRE(earliest_failing_part(build, groups) == 4);
+  const double d = signature_distance(build, cat.bugs[3].cases, groups);
+  REQUIRE(d > 0.0);
+  REQUIRE(d <= kHintSpread);
+  std::vector<Hint> hints = likely_bugs(build, cat, groups);
+  REQUIRE(hints.size() == 3);
+  CHECK(hints[0].bug->name == "camera_a");
+  CHECK(hints[1].bug->name == "bvh_b");
+  CHECK(hints[2].bug->name == "loop_d");  // in the last place, instead of light_c
+  // Far behind the first (beyond the spread), it is not named.
+  cat.bugs[3].cases = {{"p4_m2", failing(9.0)}, {"p4_m5", failing(9.0)}};
+  REQUIRE(signature_distance(build, cat.bugs[3].cases, groups) > kHintSpread);
+  hints = likely_bugs(build, cat, groups);
+  REQUIRE(hints.size() == 3);
+  for (const Hint& h : hints) CHECK(h.bug->part < 4);
+}
+
 TEST_CASE("The catalogue refuses a malformed file, naming it", "[grader]") {
   CHECK_THROWS_WITH(read_catalogue("/nonexistent/known_bugs.json"), Catch::Contains("/nonexistent/known_bugs.json"));
 }

@@ -402,7 +402,7 @@ cases.diff_pending = async () => {
 // The difference overlay of a render that differs from its case's
 // reference (the test build sends every frame times pi, as a diffuse BSDF
 // that leaves out the division by pi renders): the likely causes are in
-// words under the verdict, the nearest the known bug in bsdf_f; each line
+// words under the verdict, the nearest the known bug in diffuse_f; each line
 // is inside the view, wraps, and leaves the image and the verdict alone.
 cases.diff_hints = async () => {
   const flags = ['-r', '64', '48', '-s', '2', '-t', '2', SCENE()];
@@ -420,12 +420,12 @@ cases.diff_hints = async () => {
     check(diff.summary && diff.summary.startsWith('differs from the reference'),
           'the render times pi differs from case p3_spheres_light', JSON.stringify(diff));
     check(Array.isArray(diff.hints) && diff.hints.length >= 1 && diff.hints.length <= 3 &&
-          diff.hints[0].function === 'bsdf_f' && diff.hints[0].file === 'common/bsdf.h',
-          'the nearest likely cause is the known bug in bsdf_f (common/bsdf.h), at most three in all', JSON.stringify(diff.hints));
+          diff.hints[0].function === 'diffuse_f' && diff.hints[0].file === 'common/bsdf.h',
+          'the nearest likely cause is the known bug in diffuse_f (common/bsdf.h), at most three in all', JSON.stringify(diff.hints));
     const shown = await page.locator('#diff-hints p').allTextContents();
     check(shown.length === diff.hints.length && shown[0].startsWith(`Likely cause 1 of ${diff.hints.length}: ` +
           'every lit image is too bright by about pi (image x3.1): is the diffuse BSDF the albedo divided by pi?') &&
-          shown[0].endsWith('Look at bsdf_f in common/bsdf.h, and read "Given code" in stages/part3_direct_lighting/README.md.'),
+          shown[0].endsWith('Look at diffuse_f in common/bsdf.h, and read "Given code" in stages/part3_direct_lighting/README.md.'),
           'the page says each likely cause in words, with the function, file and README section to read', JSON.stringify(shown));
     check(!shown.some((t) => t.includes('`')) && await page.locator('#diff-hints code, #diff-hints pre').count() === 0,
           'in plain words: no code marks or code blocks', JSON.stringify(shown));

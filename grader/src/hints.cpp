@@ -50,18 +50,19 @@ double case_distance(const CaseSignature* a, const CaseSignature* b) {
   static const char* const kRegions[] = {"ratio_bright", "ratio_dark",  "ratio_mid",   "ratio_edges",
                                          "ratio_flat",   "ratio_top",   "ratio_bottom", "rate_ratio",
                                          "shadow_rays_ratio", "shadow_tests_ratio", "closest_tests_ratio"};
+  // How differently the two moved a region, relative to their whole image.
+  const auto moved = [&](const char* key) {
+    return std::fabs((log_ratio(*a, key) - log_ratio(*a, "mean_ratio")) -
+                     (log_ratio(*b, key) - log_ratio(*b, "mean_ratio")));
+  };
   double where = 0;
-  for (const char* key : kRegions)
-    where += std::fabs((log_ratio(*a, key) - log_ratio(*a, "mean_ratio")) -
-                       (log_ratio(*b, key) - log_ratio(*b, "mean_ratio")));
+  for (const char* key : kRegions) where += moved(key);
   // The grid's cells are regions too: where in the picture it moved (a
   // catalogue made before the grid has none, and they count for nothing).
   for (int r = 0; r < kGridSide; ++r)
     for (int col = 0; col < kGridSide; ++col) {
       const std::string key = grid_key(r, col);
-      if (!a->figures.count(key) || !b->figures.count(key)) continue;
-      where += std::fabs((log_ratio(*a, key.c_str()) - log_ratio(*a, "mean_ratio")) -
-                         (log_ratio(*b, key.c_str()) - log_ratio(*b, "mean_ratio")));
+      if (a->figures.count(key) && b->figures.count(key)) where += moved(key.c_str());
     }
   where = std::min(1.0, where / 2.0);
   const unsigned x = failure_bits(*a) ^ failure_bits(*b);

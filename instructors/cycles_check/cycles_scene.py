@@ -36,11 +36,12 @@ of this project's conventions is met in Cycles (README.md explains why):
   mesh         glass bounces before the -m-th vertex only, as ours counts it (a course scene's
                visible light rectangle need not be where its area light is)
   environment  the world: the map, nearest texel, through the same
-               latitude-longitude convention (common/environment.h)
+               latitude-longitude convention (common/environment.h), plus
+               the ambient lights' radiance where d.y > 0
   -m M         Cycles' bounce limit M - 1 (it counts direct light at the
                first hit as bounce 0); no clamping, no glossy filter,
                caustics on
-Anything else (point, directional and ambient lights; an emitting sphere; a
+Anything else (point and directional lights; an emitting sphere; a
 material that both reflects and emits) stops the script with a message: there is no faithful
 translation to compare against.
 """
@@ -352,7 +353,10 @@ def setup_camera(cam_json, width, height):
              (cam_json["hfov_deg"], cam_json["vfov_deg"], width, height))
 
 
-def setup_world(env_path):
+def setup_world(env_path, ambient):
+    """The light from infinity: the environment map (-e) plus the ambient
+    lights' radiance over the upper hemisphere (d.y > 0), as ours adds them
+    (common/lights.h, escaped_radiance)."""
     world = bpy.data.worlds.new("world")
     bpy.context.scene.world = world
     world.use_nodes = True
@@ -361,30 +365,53 @@ def setup_world(env_path):
     out = g.node("ShaderNodeOutputWorld")
     bg = g.node("ShaderNodeBackground")
     g.link(bg.outputs[0], out.inputs["Surface"])
-    if env_path is None:
+    bg.inputs["Strength"].default_value = 1.0
+    if env_path is None and not any(ambient):
         bg.inputs["Color"].default_value = (0, 0, 0, 1)
         bg.inputs["Strength"].default_value = 0.0
         return
-    img = bpy.data.images.load(os.path.abspath(env_path))
-    img.colorspace_settings.name = "Non-Color"
-    tex = g.node("ShaderNodeTexEnvironment", interpolation="Closest", projection="EQUIRECTANGULAR")
-    tex.image = img
-    # Ours: theta = acos(d.y), phi = atan2(-d.z, d.x) + pi, u = phi / 2 pi
-    # from the left, theta / pi from the top. Cycles' map of a direction D:
-    # u = 1/2 - atan2(D.y, D.x) / 2 pi, v = 1 - acos(D.z) / pi from the
-    # bottom. They agree for D = (d.x, d.z, d.y).
     coord = g.node("ShaderNodeTexCoord")
     sep = g.node("ShaderNodeSeparateXYZ")
-    comb = g.node("ShaderNodeCombineXYZ")
     g.link(coord.outputs["Generated"], sep.inputs[0])
-    g.link(sep.outputs["X"], comb.inputs["X"])
-    g.link(sep.outputs["Z"], comb.inputs["Y"])
-    g.link(sep.outputs["Y"], comb.inputs["Z"])
-    g.link(comb.outputs[0], tex.inputs["Vector"])
-    g.link(tex.outputs["Color"], bg.inputs["Color"])
-    bg.inputs["Strength"].default_value = 1.0
-    world.cycles.sampling_method = "MANUAL"
-    world.cycles.sample_map_resolution = max(img.size[0], img.size[1])
+    colour = None
+    if env_path is not None:
+        img = bpy.data.images.load(os.path.abspath(env_path))
+        img.colorspace_settings.name = "Non-Color"
+        tex = g.node("ShaderNodeTexEnvironment", interpolation="Closest", projection="EQUIRECTANGULAR")
+        tex.image = img
+        # Ours: theta = acos(d.y), phi = atan2(-d.z, d.x) + pi, u = phi / 2 pi
+        # from the left, theta / pi from the top. Cycles' map of a direction D:
+        # u = 1/2 - atan2(D.y, D.x) / 2 pi, v = 1 - acos(D.z) / pi from the
+        # bottom. They agree for D = (d.x, d.z, d.y).
+        comb = g.node("ShaderNodeCombineXYZ")
+        g.link(sep.outputs["X"], comb.inputs["X"])
+        g.link(sep.outputs["Z"], comb.inputs["Y"])
+        g.link(sep.outputs["Y"], comb.inputs["Z"])
+        g.link(comb.outputs[0], tex.inputs["Vector"])
+        colour = tex.outputs["Color"]
+        world.cycles.sampling_method = "MANUAL"
+        world.cycles.sample_map_resolution = max(img.size[0], img.size[1])
+    if any(ambient):
+        up = g.math("GREATER_THAN", sep.outputs["Y"], 0.0)
+        amb = g.node("ShaderNodeMixRGB", blend_type="MULTIPLY")
+        amb.inputs["Fac"].default_value = 1.0
+        amb.inputs["Color1"].default_value = rgba(ambient)
+        up_rgb = g.node("ShaderNodeCombineColor")
+        for i in range(3):
+            g.link(up, up_rgb.inputs[i])
+        g.link(up_rgb.outputs[0], amb.inputs["Color2"])
+        if colour is None:
+            colour = amb.outputs[0]
+        else:
+            add = g.node("ShaderNodeMixRGB", blend_type="ADD")
+            add.inputs["Fac"].default_value = 1.0
+            g.link(colour, add.inputs["Color1"])
+            g.link(amb.outputs[0], add.inputs["Color2"])
+            colour = add.outputs[0]
+        if env_path is None:
+            world.cycles.sampling_method = "MANUAL"
+            world.cycles.sample_map_resolution = 64
+    g.link(colour, bg.inputs["Color"])
 
 
 def setup_render(opts, width, height):
@@ -442,12 +469,13 @@ def main():
         bpy.data.objects.remove(obj, do_unlink=True)
 
     setup_camera(scene["camera"], width, height)
-    setup_world(scene["environment_map"])
+    ambient = [sum(l["radiance"][i] for l in scene["lights"] if l["type"] == "ambient") for i in range(3)]
+    setup_world(scene["environment_map"], ambient)
     setup_render(opts, width, height)
 
     lights = scene["lights"]
     for light in lights:
-        if light["type"] not in ("area", "environment"):
+        if light["type"] not in ("area", "environment", "ambient"):
             fail("light type %s is not translated" % light["type"])
     area = [l for l in lights if l["type"] == "area"]
     if any(l["type"] == "environment" for l in lights) and scene["environment_map"] is None:

@@ -7,7 +7,7 @@
 #
 #   instructors/cycles_check/run_all.sh [OUT.md] [FIGURES_DIR]
 #
-# Needs Blender (Debian's package blender) on PATH. About 12 minutes on two
+# Needs Blender (Debian's package blender) on PATH. About 10 minutes on two
 # cores. Writes OUT.md (default instructors/cycles_check/results_runs.md)
 # and one figure per comparison in FIGURES_DIR (default
 # build/cycles_check/figures).
@@ -59,6 +59,8 @@ compare microfacet_m5 "Microfacet box, gold alpha 0.25 and copper alpha 0.05 (pa
   "$s/CBspheres_microfacet.dae" -s 64 -l 4 -m 5
 compare envmap_m2 "Copper bunny under the sky map (part 8)" "$s/bunny_microfacet_envmap.dae" \
   -e "$s/sky_sun.exr" -s 64 -l 1 -m 2 -r 160 120
+compare sun_diffuse_m2 "Diffuse bunny under the wide sun and an ambient light (part 8)" "$s/bunny_ambient.dae" \
+  -e "$s/sky_wide_sun.exr" -s 64 -l 1 -m 2 -r 160 120
 compare dof_m2 "Depth of field, -b 0.2 -d 4.1 (part 9)" "$s/CBspheres_dof.dae" -s 64 -l 1 -m 2 -b 0.2 -d 4.1
 
 if [[ -d "$course" ]]; then
@@ -78,6 +80,9 @@ cmake -S "$work/f_of_wo" -B "$work/f_of_wo/build" -DCMAKE_BUILD_TYPE=Release -DP
 cmake --build "$work/f_of_wo/build" -j2 --target pathtracer >/dev/null
 compare microfacet_m5_f_of_wo "Microfacet box, ours with F at wo (f_of_wo.patch)" "$s/CBspheres_microfacet.dae" \
   -s 64 -l 4 -m 5 --pathtracer "$work/f_of_wo/build/bin/pathtracer"
+compare envmap_m1_f_of_wo "Copper bunny under the sky map, direct light only, ours with F at wo" \
+  "$s/bunny_microfacet_envmap.dae" -e "$s/sky_sun.exr" -s 256 -l 1 -m 1 -r 160 120 \
+  --pathtracer "$work/f_of_wo/build/bin/pathtracer"
 if [[ -d "$course" ]]; then
   compare course_al_ag_m5_f_of_wo "The course's CBspheres_microfacet_al_ag.dae, ours with F at wo" \
     "$course/CBspheres_microfacet_al_ag.dae" -s 64 -l 4 -m 5 --pathtracer "$work/f_of_wo/build/bin/pathtracer"

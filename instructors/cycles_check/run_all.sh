@@ -6,6 +6,12 @@
 # is what Cycles can express.
 #
 #   instructors/cycles_check/run_all.sh [OUT.md] [FIGURES_DIR]
+#   COURSE_DAE=DIR instructors/cycles_check/run_all.sh ...
+#
+# COURSE_DAE: the course starter repository's dae/sky folder (its 3-2
+# scenes CBgems.dae, CBcoil.dae, CBbunny_microfacet_cu.dae and
+# bunny_microfacet_cu_unlit.dae are compared too; they are the course's,
+# read where they are, never copied here).
 #
 # Needs Blender (Debian's package blender) on PATH. About 10 minutes on two
 # cores. Writes OUT.md (default instructors/cycles_check/results_runs.md)
@@ -71,6 +77,15 @@ else
   echo -e "\nThe course's scenes were not compared: $course is not there." >> "$out"
 fi
 
+if [[ -n "${COURSE_DAE:-}" ]]; then
+  compare course_gems_m5 "The course's CBgems.dae (glass gems)" "$COURSE_DAE/CBgems.dae" -s 64 -l 4 -m 5
+  compare course_coil_m5 "The course's CBcoil.dae (a mirror coil)" "$COURSE_DAE/CBcoil.dae" -s 64 -l 4 -m 5
+  compare course_cu_bunny_m5 "The course's CBbunny_microfacet_cu.dae" "$COURSE_DAE/CBbunny_microfacet_cu.dae" \
+    -s 64 -l 4 -m 5
+  compare course_cu_bunny_unlit_m2 "The course's bunny_microfacet_cu_unlit.dae under our sky map" \
+    "$COURSE_DAE/bunny_microfacet_cu_unlit.dae" -e "$s/sky_sun.exr" -s 64 -l 1 -m 2 -r 160 120
+fi
+
 # The microfacet box again with F at wo: Cycles fixes a closure's colour
 # before it picks a light, so it can only take F at the outgoing direction.
 echo "run_all.sh: building the F(wo) variant" >&2
@@ -86,5 +101,9 @@ compare envmap_m1_f_of_wo "Copper bunny under the sky map, direct light only, ou
 if [[ -d "$course" ]]; then
   compare course_al_ag_m5_f_of_wo "The course's CBspheres_microfacet_al_ag.dae, ours with F at wo" \
     "$course/CBspheres_microfacet_al_ag.dae" -s 64 -l 4 -m 5 --pathtracer "$work/f_of_wo/build/bin/pathtracer"
+fi
+if [[ -n "${COURSE_DAE:-}" ]]; then
+  compare course_cu_bunny_m5_f_of_wo "The course's CBbunny_microfacet_cu.dae, ours with F at wo" \
+    "$COURSE_DAE/CBbunny_microfacet_cu.dae" -s 64 -l 4 -m 5 --pathtracer "$work/f_of_wo/build/bin/pathtracer"
 fi
 echo "run_all.sh: wrote $out and $figs/" >&2

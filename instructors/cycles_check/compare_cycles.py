@@ -88,8 +88,8 @@ def figure(path, ours, cyc, ratio, flagged, xs, ys):
     for r in range(rows):
         for c in range(cols):
             d = float(np.clip((ratio[r, c].mean() - 1) / 0.05, -1, 1))
-            col = (128 + 127 * d, 128 - 127 * abs(d), 128 - 127 * d) if d >= 0 else (128 + 127 * d, 128 - 127 * abs(d), 128 - 127 * d)
-            diff[ys[r]:ys[r + 1], xs[c]:xs[c + 1]] = np.array(col, np.float64).clip(0, 255).astype(np.uint8)
+            diff[ys[r]:ys[r + 1], xs[c]:xs[c + 1]] = np.array(
+                (128 + 127 * d, 128 - 127 * abs(d), 128 - 127 * d)).clip(0, 255).astype(np.uint8)
             if flagged[r, c].any():
                 for y0, y1, x0, x1 in ((ys[r], ys[r] + 2, xs[c], xs[c + 1]), (ys[r + 1] - 2, ys[r + 1], xs[c], xs[c + 1]),
                                        (ys[r], ys[r + 1], xs[c], xs[c] + 2), (ys[r], ys[r + 1], xs[c + 1] - 2, xs[c + 1])):

@@ -33,8 +33,9 @@ of this project's conventions is met in Cycles (README.md explains why):
                reached by light sampling only (ours never hits a light
                with a ray) and invisible to the camera
   emitting     its emission counts for camera rays and after mirror and
-  mesh         glass bounces before the -m-th vertex only, as ours counts it (a course scene's
-               visible light rectangle need not be where its area light is)
+  mesh         glass bounces before the -m-th vertex only, as ours counts
+               it (a course scene's visible light rectangle need not be
+               where its area light is)
   environment  the world: the map, nearest texel, through the same
                latitude-longitude convention (common/environment.h), plus
                the ambient lights' radiance where d.y > 0
@@ -42,8 +43,8 @@ of this project's conventions is met in Cycles (README.md explains why):
                first hit as bounce 0); no clamping, no glossy filter,
                caustics on
 Anything else (point and directional lights; an emitting sphere; a
-material that both reflects and emits) stops the script with a message: there is no faithful
-translation to compare against.
+material that both reflects and emits) stops the script with a message:
+there is no faithful translation to compare against.
 """
 import json
 import math
@@ -65,12 +66,16 @@ def parse_args():
         fail("usage: blender -b --python cycles_scene.py -- SCENE.json OUT.pfm --samples N --max-depth M "
              "[--seed S] [--threads T]")
     opts = {"scene": argv[0], "out": argv[1], "samples": 64, "max_depth": 5, "seed": 0, "threads": 1}
+    numeric = ("samples", "max_depth", "seed", "threads")
     i = 2
     while i < len(argv):
         key = argv[i].lstrip("-").replace("-", "_")
-        if key not in opts or i + 1 >= len(argv):
+        if key not in numeric or i + 1 >= len(argv):
             fail("unknown or incomplete option " + argv[i])
-        opts[key] = int(argv[i + 1])
+        try:
+            opts[key] = int(argv[i + 1])
+        except ValueError:
+            fail("%s needs a whole number, not '%s'" % (argv[i], argv[i + 1]))
         i += 2
     return opts
 
@@ -521,4 +526,3 @@ def main():
 
 
 main()
-if os.environ.get("CY_DEBUG"): exec(open(os.environ["CY_DEBUG"]).read())

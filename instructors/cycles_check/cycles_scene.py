@@ -16,7 +16,10 @@ of this project's conventions is met in Cycles (README.md explains why):
   triangles    one mesh per material, with the loader's vertex normals as
                custom normals
   spheres      fine icospheres with the sphere's normals (add_sphere)
-  diffuse      Diffuse BSDF (Lambert)
+  diffuse      Diffuse BSDF (Lambert) on the side its normal faces;
+               seen from behind, Translucent (ours shades with the normal as
+               it is, so a diffuse surface hit from behind gathers and
+               sends its light on the normal's side)
   mirror       Glossy BSDF, sharp, colour = reflectance
   glass        a mix of sharp Refraction and sharp Glossy by Schlick's
                reflectance at the angle on the air's side, 1 past the
@@ -172,10 +175,22 @@ def build_material(m):
     mat, g, out = new_material(m["name"] or "material")
     t = m["type"]
     if t == "diffuse":
-        bsdf = g.node("ShaderNodeBsdfDiffuse")
-        bsdf.inputs["Color"].default_value = rgba(m["albedo"])
-        bsdf.inputs["Roughness"].default_value = 0.0
-        g.link(bsdf.outputs[0], out.inputs["Surface"])
+        # Ours builds the shading frame on the normal as it is (the
+        # course's), so a diffuse surface hit from behind its normal gathers
+        # the light on the normal's side and sends its bounce there: a
+        # diffuse transmission (Cycles' Translucent) seen from that side.
+        # add_mesh winds each triangle to its normals' side, so Cycles'
+        # Backfacing is "behind our normal".
+        front = g.node("ShaderNodeBsdfDiffuse")
+        front.inputs["Color"].default_value = rgba(m["albedo"])
+        front.inputs["Roughness"].default_value = 0.0
+        back = g.node("ShaderNodeBsdfTranslucent")
+        back.inputs["Color"].default_value = rgba(m["albedo"])
+        mix = g.node("ShaderNodeMixShader")
+        g.link(g.node("ShaderNodeNewGeometry").outputs["Backfacing"], mix.inputs["Fac"])
+        g.link(front.outputs[0], mix.inputs[1])
+        g.link(back.outputs[0], mix.inputs[2])
+        g.link(mix.outputs[0], out.inputs["Surface"])
     elif t == "mirror":
         bsdf = g.node("ShaderNodeBsdfGlossy", distribution="SHARP")
         bsdf.inputs["Color"].default_value = rgba(m["reflectance"])

@@ -184,31 +184,49 @@ def block_edges(n, parts):
     return [round(i * n / parts) for i in range(parts + 1)]
 
 
-def block_means(img, cols, rows):
+def block_means(img, cols, rows, keep=None):
+    """Per block and channel, the mean over the pixels `keep` (H x W bool,
+    default all) holds; a block with no such pixel gets 0."""
     xs, ys = block_edges(img.shape[1], cols), block_edges(img.shape[0], rows)
+    if keep is None:
+        keep = np.ones(img.shape[:2], bool)
     out = np.zeros((rows, cols, 3))
     for r in range(rows):
         for c in range(cols):
-            out[r, c] = img[ys[r]:ys[r + 1], xs[c]:xs[c + 1]].reshape(-1, 3).mean(axis=0)
+            k = keep[ys[r]:ys[r + 1], xs[c]:xs[c + 1]]
+            if k.any():
+                out[r, c] = img[ys[r]:ys[r + 1], xs[c]:xs[c + 1]][k].mean(axis=0)
     return out, xs, ys
 
 
-def compare(staff, ours, cols, rows, alpha):
-    """staff: H x W x 3; ours: K x H x W x 3. Returns the figures as a dict."""
+def kept_pixels(shape, rects):
+    """H x W bool: False inside each (x, y, w, h) rectangle, y from the top."""
+    keep = np.ones(shape[:2], bool)
+    for x, y, w, h in rects:
+        keep[max(y, 0):max(y + h, 0), max(x, 0):max(x + w, 0)] = False
+    return keep
+
+
+def compare(staff, ours, cols, rows, alpha, keep=None):
+    """staff: H x W x 3; ours: K x H x W x 3; keep: the pixels compared (H x
+    W bool, default all). Returns the figures as a dict. A block without a
+    kept pixel is not tested (p = 1)."""
     k = ours.shape[0]
-    y, xs, ys = block_means(staff, cols, rows)
-    per = np.array([block_means(o, cols, rows)[0] for o in ours])  # K x rows x cols x 3
+    if keep is None:
+        keep = np.ones(staff.shape[:2], bool)
+    y, xs, ys = block_means(staff, cols, rows, keep)
+    per = np.array([block_means(o, cols, rows, keep)[0] for o in ours])  # K x rows x cols x 3
     m, s = per.mean(axis=0), per.std(axis=0, ddof=1)
-    npix = np.array([[(xs[c + 1] - xs[c]) * (ys[r + 1] - ys[r]) for c in range(cols)] for r in range(rows)])
-    floor = 1.0 / (255.0 * np.sqrt(12.0 * npix))[:, :, None]
+    npix = np.array([[keep[ys[r]:ys[r + 1], xs[c]:xs[c + 1]].sum() for c in range(cols)] for r in range(rows)])
+    floor = 1.0 / (255.0 * np.sqrt(12.0 * np.maximum(npix, 1)))[:, :, None]
     s_eff = np.maximum(s, floor)
-    t = (y - m) / (s_eff * math.sqrt(1 + 1 / k))
+    t = np.where(npix[:, :, None] > 0, (y - m) / (s_eff * math.sqrt(1 + 1 / k)), 0.0)
     p = np.vectorize(lambda v: t_two_sided_p(v, k - 1))(t)
     rejected = np.array(holm(list(p.ravel()), alpha)).reshape(p.shape)
     # Whole image, per channel.
-    wy, wm_all = staff.reshape(-1, 3).mean(axis=0), ours.reshape(k, -1, 3).mean(axis=1)
+    wy, wm_all = staff[keep].mean(axis=0), ours[:, keep].mean(axis=1)
     wm, ws = wm_all.mean(axis=0), wm_all.std(axis=0, ddof=1)
-    ws_eff = np.maximum(ws, 1.0 / (255.0 * math.sqrt(12.0 * staff.shape[0] * staff.shape[1])))
+    ws_eff = np.maximum(ws, 1.0 / (255.0 * math.sqrt(12.0 * keep.sum())))
     wt = (wy - wm) / (ws_eff * math.sqrt(1 + 1 / k))
     wp = [t_two_sided_p(v, k - 1) for v in wt]
     return dict(k=k, y=y, m=m, s=s, t=t, p=p, rejected=rejected, xs=xs, ys=ys,
@@ -270,7 +288,8 @@ def table(args, res, staff_label, cmd):
            f"the first one's command: `{shown(cmd)}`",
            f"- grid {cols} x {rows} blocks x 3 channels = {n_cmp} comparisons, Holm at alpha = {args.alpha}; "
            f"t with {res['k'] - 1} df",
-           f"- blocks that differ (any channel): **{len(flagged)} of {rows * cols}**",
+           f"- blocks that differ (any channel): **{len(flagged)} of {rows * cols}**"
+           + (f" ({res['excluded']} pixels left out of both images)" if res.get("excluded") else ""),
            f"- whole-image mean (R, G, B, of byte/255): staff {fmt3(res['whole_staff'])}, ours "
            f"{fmt3(res['whole_ours'])} (render-to-render sd {fmt3(res['whole_sd'], 4)}); "
            f"ratio staff/ours {ratio:.4f}; t {fmt3(res['whole_t'], 2)}; differs (Holm, 3 channels): "
@@ -326,6 +345,11 @@ def main():
     ap.add_argument("-t", "--threads", type=int, default=1)
     ap.add_argument("--pathtracer", default=os.path.join(ROOT, "build", "bin", "pathtracer"))
     ap.add_argument("--work", help="keep the renders here (default: a temporary folder)")
+    ap.add_argument("--exclude", type=int, nargs=4, action="append", default=[], metavar=("X", "Y", "W", "H"),
+                    help="leave out this rectangle of pixels (y from the top) in both images; repeatable")
+    ap.add_argument("--course-watermark", action="store_true",
+                    help="leave out the 48 x 5 pixels at the bottom left that some course starters stamp "
+                         "into every render")
     ap.add_argument("--figure", help="write staff | our mean | difference here")
     ap.add_argument("--markdown", help="append the result to this file")
     ap.add_argument("--title", default="comparison")
@@ -358,7 +382,12 @@ def main():
         label = (f"our own render at seed {args.pseudo_staff}"
                  + (f" with `{args.pseudo_staff_args}`" if args.pseudo_staff_args else "") + " (a stand-in)")
     ours = np.array(ours)
-    res = compare(staff, ours, args.grid[0], args.grid[1], args.alpha)
+    rects = list(args.exclude) + ([[0, staff.shape[0] - 5, 48, 5]] if args.course_watermark else [])
+    keep = kept_pixels(staff.shape, rects)
+    if not keep.any():
+        sys.exit("compare_staff: error: --exclude leaves no pixel to compare")
+    res = compare(staff, ours, args.grid[0], args.grid[1], args.alpha, keep)
+    res["excluded"] = int((~keep).sum())
     text = table(args, res, label, first_cmd)
     if args.figure:
         figure(args.figure, staff, ours.mean(axis=0), res)

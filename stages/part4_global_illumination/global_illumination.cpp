@@ -26,17 +26,20 @@ Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions&
   for (;;) {
     const bool first_bounce = ray.depth == opts.max_depth;
     const Material& m = ctx.scene.materials[size_t(at.material)];
+    // The light a vertex adds by itself, its direct light, counts at every
+    // vertex (-o 1) or at the last one, depth 1 (-o 0).
+    const bool direct_counts = (opts.accumulate || ray.depth == 1) && !(opts.skip_direct && first_bounce);
     // A delta BSDF (mirror, glass; part 6) reflects light from one
-    // direction, which light sampling never finds: its light is the
-    // emission the bounce reaches, added below.
+    // direction, which light sampling never finds: its direct light is the
+    // emission its bounce reaches, so that bounce is traced even at the
+    // last vertex (at -m 1 a mirror shows the light it faces).
     const bool delta = bsdf_is_delta(m);
-    if ((opts.accumulate || ray.depth == 1) && !(opts.skip_direct && first_bounce) && !delta)
-      L += weight * one_bounce_radiance(ctx, ray, at, rng);
-    if (ray.depth <= 1) break;
+    if (direct_counts && !delta) L += weight * one_bounce_radiance(ctx, ray, at, rng);
+    if (ray.depth <= 1 && !(delta && direct_counts)) break;
 
     // The first indirect bounce is always traced; later ones play roulette.
     float survive = 1.0f;
-    if (!first_bounce && opts.russian_roulette) {
+    if (!first_bounce && ray.depth > 1 && opts.russian_roulette) {
       if (rng.uniform() >= kContinueProbability) break;
       survive = kContinueProbability;
     }
@@ -47,11 +50,7 @@ Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions&
     const Color f = bsdf_sample_f(m, wo, rng.uniform(), rng.uniform(), &wi, &pdf);
     if (!(pdf > 0) || (f.x == 0 && f.y == 0 && f.z == 0)) break;
     Ray bounce(ray.at(at.t), frame.to_world(wi), kRayEpsilon, kInfinity, ray.depth - 1);
-    // After a delta bounce, what the bounce reaches stands for the direct
-    // light at `at`, counted by the same rule (-o 0: the light reaching the
-    // last vertex, at depth 1).
-    const bool count_emission =
-        delta && (opts.accumulate || bounce.depth == 1) && !(opts.skip_direct && first_bounce);
+    const bool count_emission = delta && direct_counts;
     Hit next;
     if (!ctx.geometry.intersect(bounce, &next)) {  // the sky was counted by light sampling, unless at a delta
       if (count_emission)
@@ -61,6 +60,7 @@ Color at_least_one_bounce_radiance(const ShadingContext& ctx, const PathOptions&
     // |cos theta|: a refracted wi lies below the surface.
     weight *= f * (std::fabs(wi.z) / (pdf * survive));
     if (count_emission) L += weight * zero_bounce_radiance(ctx, bounce, next);
+    if (ray.depth <= 1) break;  // a delta vertex at the last depth: its direct light only
     ray = bounce;
     at = next;
   }

@@ -22,7 +22,8 @@ struct PathOptions {
 // sampled bounce (sample_f), continued with depth - 1 and weighted by
 // f |cos| / pdf. At a delta BSDF (mirror, glass; part 6) there is no
 // direct light; the emission (or sky) its bounce reaches is added instead,
-// counted by the same rule (with -o 0, when the bounce lands at depth 1).
+// counted by the same rule (with -o 0, at the last vertex: a delta surface at
+// depth 1 still traces its bounce, for that light only).
 // The first bounce from a camera ray (depth == max_depth) is
 // always traced; later ones survive Russian roulette with
 // kContinueProbability and are divided by it. The course writes this

@@ -36,9 +36,8 @@ of this project's conventions is met in Cycles (README.md explains why):
                reached by light sampling only (ours never hits a light
                with a ray) and invisible to the camera
   emitting     its emission counts for camera rays and after mirror and
-  mesh         glass bounces before the -m-th vertex only, as ours counts
-               it (a course scene's visible light rectangle need not be
-               where its area light is)
+  mesh         glass bounces only, as ours counts it (a course scene's
+               visible light rectangle need not be where its area light is)
   environment  the world: the map, nearest texel, through the same
                latitude-longitude convention (common/environment.h), plus
                the ambient lights' radiance where d.y > 0
@@ -219,23 +218,19 @@ def build_material(m):
     return mat
 
 
-def seen_emission_material(m, max_depth):
+def seen_emission_material(m):
     """An emitting mesh as ours treats it: its emission (both sides) counts
     for camera rays and after a mirror or glass bounce (a singular ray in
-    Cycles) that was not the path's last (-m) vertex, never otherwise (no
-    light is sampled on it, and a diffuse or microfacet bounce that hits it
-    finds black: its light comes from the scene's area lights instead).
-    Cycles would count the hit after a bounce at its last vertex; ours
-    stops there (stages/part4_global_illumination)."""
+    Cycles), the last vertex's too (stages/part4_global_illumination), never
+    otherwise (no light is sampled on it, and a diffuse or microfacet bounce
+    that hits it finds black: its light comes from the scene's area lights
+    instead)."""
     mat, g, out = new_material(m["name"] or "emission")
     em = g.node("ShaderNodeEmission")
     em.inputs["Color"].default_value = rgba(m["emission"])
     em.inputs["Strength"].default_value = 1.0
     path = g.node("ShaderNodeLightPath")
-    # Ray Depth: the bounces before this hit; a bounce at vertex k < -m.
-    within = g.math("LESS_THAN", path.outputs["Ray Depth"], max_depth - 0.5)
-    seen = g.math("MAXIMUM", path.outputs["Is Camera Ray"],
-                  g.math("MULTIPLY", path.outputs["Is Singular Ray"], within))
+    seen = g.math("MAXIMUM", path.outputs["Is Camera Ray"], path.outputs["Is Singular Ray"])
     black = g.node("ShaderNodeBsdfDiffuse")
     black.inputs["Color"].default_value = (0, 0, 0, 1)
     mix = g.node("ShaderNodeMixShader")
@@ -518,7 +513,7 @@ def main():
         emits = mats[i]["type"] == "emission" or any(c > 0 for c in mats[i]["emission"])
         if emits and mats[i]["type"] != "emission":
             fail("material '%s' both reflects and emits: not translated" % mats[i]["name"])
-        add_mesh("mesh-%d" % i, pos[sel], nrm[sel], seen_emission_material(mats[i], opts["max_depth"]) if emits else material(i))
+        add_mesh("mesh-%d" % i, pos[sel], nrm[sel], seen_emission_material(mats[i]) if emits else material(i))
 
     for j, s in enumerate(scene["spheres"]):
         m = mats[s["material"]]

@@ -53,9 +53,9 @@ TEST_CASE("part 6: paths through the mirror and the glass sphere add up exactly,
     CHECK(c.refracted > 0);  // into and out of the glass
     if (accumulate) CHECK(c.reached > 0);  // the light seen in the mirror
   }
-  // -o 0 -m 2: a camera ray's mirror or glass hit is the last vertex but
-  // one, so the light its bounce reaches is the image (the light seen in
-  // the mirror: a few samples of pixels (10, 7) and (13, 7)).
+  // -o 0 -m 2: only the last vertex's light counts, and a mirror or glass
+  // hit there still traces its bounce for the light it reaches (a wall's
+  // bounce onto the mirror or the glass that finds the light).
   RenderOptions o = options(6, w, h, 16, 2, 48);
   o.accumulate_bounces = false;
   CHECK(check_adds_up(scene, o, "CBspheres part 6 -m 2 -o 0").reached > 0);

@@ -91,9 +91,10 @@ void account(const RenderOptions& opts, const std::vector<Light>& lights, PathRe
     if (!step.bsdf_sampled || !step.next_traced) continue;
     // |cos theta|: a refracted wi lies below the surface.
     const float cos_over_pdf = std::fabs(step.bsdf_wi_local.z) / (step.bsdf_pdf * step.continue_probability);
-    // After a delta bounce, what it reaches stands for the direct light,
-    // counted by the same rule (-o 0: at the last vertex, depth 1).
-    const bool count_reached = opts.part >= 4 && step.delta && (path.accumulate || step.depth == 2) &&
+    // After a delta bounce, what it reaches is the delta vertex's direct
+    // light, counted by the same rule (-o 0: at the last vertex, depth 1,
+    // whose bounce is traced for that light only).
+    const bool count_reached = opts.part >= 4 && step.delta && (path.accumulate || step.depth == 1) &&
                                !(path.skip_direct && first);
     if (!step.next_hit) {
       step.reached = escaped_radiance(lights, step.next_ray.d);

@@ -77,8 +77,11 @@ inline void add_block(Scene& s, const std::string& name, const std::string& mate
   }
 }
 
-// Part 6's second glass scene: a glass block (index 1.5) turned 30 degrees
-// on the floor, front left, with a diffuse sphere behind it to the right.
+// Part 6's second glass scene: a glass block (index 1.5) turned 30 degrees,
+// 1 mm above the floor (resting on it, its bottom would lie in the floor's
+// plane, and which face a ray hits there would depend on the BVH's order:
+// correct BVHs would render it differently), front left, with a diffuse
+// sphere behind it to the right.
 // Unlike a sphere, a block has total internal reflection: a ray that
 // entered by its top or a side meets another side beyond the critical
 // angle (41.8 degrees), so its faces seen through one another mirror the
@@ -92,7 +95,7 @@ inline Scene cb_glass_block() {
   s.materials.push_back(glass("glass", 1.5));
   s.materials.push_back(diffuse("lambertian", {0.8, 0.8, 0.8}));
   add_cornell_area_light(s);
-  add_block(s, "block", "glass", {-0.3, 0.3, 0.2}, {0.25, 0.3, 0.25}, 30);
+  add_block(s, "block", "glass", {-0.3, 0.301, 0.2}, {0.25, 0.3, 0.25}, 30);
   s.spheres.push_back({"SphereBackRight", "lambertian", {0.4, 0.3, -0.3}, kSphereRadius});
   s.camera = course_camera(s, {0, 0, 1});
   return s;

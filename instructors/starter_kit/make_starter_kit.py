@@ -32,6 +32,10 @@ Installed over the copied files: the overlay files of
 instructors/starter_kit/overlay/ (OVERLAY in kitgen/tree.py: the students'
 README.md, stages/README.md, grader/README.md and scripts/run.sh).
 
+Written by the generator: solved_parts.txt at the kit's root, the parts
+the kit gives solved (comment lines starting with #, then one part number a
+line; no number in a kit where every part is the students').
+
 --solved-parts PARTS gives those parts solved: PARTS is a list of part
 numbers and ranges (1-5; 1,2,3; 1-3,5). Their stage folders
 (stages/partK_*/) keep the solution of every region, without the markers
@@ -39,8 +43,10 @@ and stubs, and their reference-only sources (the solution includes them);
 every other part is stubbed as usual and checked as usual. `--solved-parts
 1-5` is the kit for the course's Project 3-2: parts 1-5 (Project 3-1)
 work, parts 6-9 are the students'. The kit's README.md, stages/README.md
-and each solved part's README get a note (after their title) saying which
-parts are given solved. A part without a stage folder, or every part
+and each part's README get a note (after their title) saying which parts
+are given solved; a stubbed part's note also names what the solved parts
+give it beyond their own functions (GIVEN_FOR in kitgen/solved.py: part
+4's handling of mirror and glass, for part 6). A part without a stage folder, or every part
 solved, is an error (exit status 2). Solution regions outside stage
 folders (tests/) are stubbed in every kit.
 
@@ -163,7 +169,8 @@ def main():
             else:
                 with open(target, "w", encoding="utf-8") as f:
                     f.writelines(out)
-                shutil.copymode(origin[rel], target)
+                if origin[rel] is not None:  # None: a file the generator writes (solved_parts.txt)
+                    shutil.copymode(origin[rel], target)
         if os.path.exists(dest):
             os.rmdir(dest)
         os.rename(tmp, dest)

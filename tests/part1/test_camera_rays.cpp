@@ -1,5 +1,6 @@
 // Part 1, task 1: generate_ray.
 #include <catch2/catch.hpp>
+#include <cmath>
 
 #include "stages/part1_raytracing/camera_rays.h"
 
@@ -9,6 +10,15 @@ namespace {
 void check_dir(const Vec3& d, const Vec3d& expected) {
   const Vec3d e = normalize(expected);
   INFO("direction " << d.x << " " << d.y << " " << d.z << ", expected " << e.x << " " << e.y << " " << e.z);
+  // The conventions, and the likely slip when one component has the wrong sign.
+  const bool flipped_y = std::fabs(d.y + e.y) < 1e-5 && std::fabs(e.y) > 1e-3 && std::fabs(d.x - e.x) < 1e-5;
+  const bool flipped_x = std::fabs(d.x + e.x) < 1e-5 && std::fabs(e.x) > 1e-3 && std::fabs(d.y - e.y) < 1e-5;
+  INFO((flipped_y   ? "Hint: only y's sign is wrong: the image would be upside down. (x, y) = (0, 0) is the "
+                      "bottom-left of the image, y grows upward. "
+        : flipped_x ? "Hint: only x's sign is wrong: the image would be mirrored. x grows to the right. "
+                    : "Hint: ")
+       << "The camera-space sensor point is ((2x - 1) tan(hFov / 2), (2y - 1) tan(vFov / 2), -1), fields of view "
+          "in degrees, turned into world space by the camera's axes (cam.to_world) and normalised.");
   CHECK(norm(d) == Approx(1.0f).epsilon(1e-6));
   CHECK(d.x == Approx(e.x).margin(1e-6));
   CHECK(d.y == Approx(e.y).margin(1e-6));

@@ -60,7 +60,10 @@ TEST_CASE("triangle: edges and vertices count as hits, from either side", "[part
   const Triangle t = unit_triangle();
   for (auto [x, y] : {std::pair{0.5f, 0.0f}, {0.0f, 0.5f}, {0.5f, 0.5f}, {0.0f, 0.0f}, {1.0f, 0.0f}}) {
     Ray r = down_at(x, y);
-    INFO("edge point " << x << ", " << y);
+    INFO("edge point " << x << ", " << y
+                       << ". Hint: on an edge or at a vertex a barycentric coordinate is exactly 0 (or b1 + b2 "
+                          "exactly 1): accept it (b1 >= 0, b2 >= 0, b1 + b2 <= 1), so that no ray slips between "
+                          "two triangles that share the edge.");
     CHECK(intersect_triangle(t, r, nullptr));
   }
   Ray from_below({0.2f, 0.2f, -2}, {0, 0, 1}, 0.0f, 100.0f);
@@ -76,6 +79,7 @@ TEST_CASE("triangle: the normal is interpolated with barycentric weights", "[par
   t.n3 = {0, 1, 0};
   Hit h;
   Ray at_p2 = down_at(1.0f, 0.0f);
+  INFO("a ray through the vertex p2 must hit (see the test of edges and vertices)");
   REQUIRE(intersect_triangle(t, at_p2, &h));
   CHECK(h.n.x == Approx(1.0f));
   // At (0.5, 0.25): weights 0.25 (p1), 0.5 (p2), 0.25 (p3).
@@ -153,6 +157,8 @@ TEST_CASE("sphere: distant spheres keep precision", "[part1][sphere]") {
   Sphere s{{0, 0, -1000}, 0.5f, 0};
   Ray r({0, 0, 0}, {0, 0, -1}, 0.0f, 1e6f);
   Hit h;
+  INFO("Hint: |o - c|^2 - R^2 is a difference of two large, nearly equal numbers here: compute it (and the "
+       "quadratic's roots) in double.");
   REQUIRE(intersect_sphere(s, r, &h));
   CHECK(h.t == Approx(999.5f).margin(1e-3));
 }
@@ -165,6 +171,9 @@ TEST_CASE("sphere: a radius whose square overflows float still gives a unit norm
   Sphere s{{0, 0, 0}, huge, 0};
   Ray r({0, 0, -2 * huge}, {0, 0, 1}, 1e-4f, std::numeric_limits<float>::infinity());
   Hit h;
+  INFO("Hint: in float, this sphere's R^2 = 2^128 overflows to infinity, and |o - c|^2 - R^2 becomes inf - inf = "
+       "NaN: no hit. Compute the quadratic's coefficients and roots in double (the course's Vector3D is double), "
+       "and the normal as (p - c) normalised.");
   REQUIRE(intersect_sphere(s, r, &h));
   CHECK(h.t == Approx(huge).epsilon(1e-6));
   CHECK(std::isfinite(h.n.x));

@@ -95,6 +95,8 @@ TEST_CASE("one sample per pixel goes through the pixel centre, more are jittered
   REQUIRE(seen.size() == 1);
   CHECK(c == Color(1.0f, 2.0f, 3.0f));
   const Ray centre = generate_ray(s.camera, 2.5 / 8, 3.5 / 6);
+  INFO("Hint: with one sample per pixel (-s 1) the ray goes through the pixel's centre, ((x + 0.5) / width, "
+       "(y + 0.5) / height), with no jitter, as in the course; only -s 2 and more jitter it.");
   CHECK(seen[0].d.x == Approx(centre.d.x));
   CHECK(seen[0].d.y == Approx(centre.d.y));
 

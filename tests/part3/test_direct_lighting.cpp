@@ -39,7 +39,9 @@
 //                                          lights, agree in a Cornell box
 //   shadow ray not stopped at the light -> Lambert light sampling, agree in a Cornell box
 //     (max_t = distance, or infinite)
-//   delta light sampled -l times        -> delta lights (one shadow ray each)
+//   delta light sampled -l times        -> delta lights (one shadow ray each); says so
+//   shadow ray min_t = 1e-11 (the       -> no shadow acne, delta lights (the shadowed point),
+//     course's EPS_D, no offset in float)  agree in both Cornell boxes; the failures say so
 //   -H ignores the emission it hits     -> Lambert -H, agree in a Cornell box
 //   Frame::from_normal wrong for n.z<0  -> agree in a Cornell box
 //   zero light pdf not skipped (NaN)    -> part 3 renders of every project scene, agree in a
@@ -144,7 +146,19 @@ Estimates estimate(const ShadingContext& ctx, const ShadingPoint& sp, int n, uin
 
 // z test of the red channel against `expected`; the green and blue means
 // must be in the ratio the colours prescribe.
-void check_mean(const Estimates& e, double expected, double ratio_y, double ratio_z) {
+// What to look at when an estimator's mean is off (shown with a failure).
+const char* const kLightSamplingHint =
+    "Hint: far too dark? A shadow ray starts at the hit point with min_t = kRayEpsilon (the course's EPS_D, "
+    "1e-11, is no offset at all in a float ray: it finds its own surface) and stops at max_t = distance - "
+    "kRayEpsilon (here an emissive quad lies exactly where the light is: a shadow ray that goes all the way "
+    "hits it). Off by a factor? Each sample adds f L cos theta / pdf, with the pdf sample_light gives "
+    "(per solid angle), averaged over the light's samples.";
+const char* const kHemisphereHint =
+    "Hint: each direction is uniform over the hemisphere, pdf 1 / (2 pi), and adds f L cos theta / pdf, "
+    "averaged over every sample; a direction's ray starts at kRayEpsilon, so that it does not find the "
+    "surface it leaves.";
+
+void check_mean(const Estimates& e, double expected, double ratio_y, double ratio_z, const char* hint) {
   const ZTest z = z_test(e.x, expected);
   {
     std::ostringstream o;
@@ -153,7 +167,8 @@ void check_mean(const Estimates& e, double expected, double ratio_y, double rati
     stats_log(o.str());
   }
   INFO("mean " << e.x.mean << " +- " << e.x.std_error() << " (n = " << e.x.n << "), expected " << expected
-               << ", z = " << z.z << ", p = " << z.p_value << ", level " << kAlphaEach);
+               << " (yours is " << e.x.mean / expected << " times that), z = " << z.z << ", p = " << z.p_value
+               << ", level " << kAlphaEach << ". " << hint);
   CHECK(z.p_value >= kAlphaEach);
   const double n = double(e.x.n);
   if (e.x.mean != 0) {
@@ -255,7 +270,21 @@ void check_hemisphere_agrees_with_light_sampling(const Scene& scene) {
   const BlockComparison c = compare_blocks(hemi, lights, kAlphaEach);
   stats_log("blocks: smallest p " + std::to_string(c.min_p) + ", rejected " + std::to_string(c.rejected) + "\n" +
             c.report);
-  INFO(c.blocks << " blocks, smallest p = " << c.min_p << ", level " << kAlphaEach << "\n" << c.report);
+  double hemi_sum = 0, light_sum = 0;
+  for (const auto& image : hemi)
+    for (double b : image) hemi_sum += b;
+  for (const auto& image : lights)
+    for (double b : image) light_sum += b;
+  INFO(c.blocks << " blocks, smallest p = " << c.min_p << ", level " << kAlphaEach << "\n" << c.report
+                << "(each block: -H's mean vs light sampling's)\nThe light-sampled image is " << light_sum / hemi_sum
+                << " times as bright as the -H one. "
+                << (light_sum < hemi_sum
+                        ? "Hint: light sampling too dark? Its shadow rays must stop at distance - kRayEpsilon (an "
+                          "emissive quad lies exactly where the area light is: a shadow ray that reaches it is "
+                          "blocked) and start at kRayEpsilon; each light's samples are averaged, the lights summed."
+                        : "Hint: light sampling too bright, or -H too dark? Check the pdfs (1 / (2 pi) for -H, "
+                          "sample_light's for light sampling), cos theta, and that each estimator divides by its "
+                          "own number of samples (-H: lights x -l)."));
   CHECK(c.blocks == 48);
   CHECK(c.rejected == 0);
 }
@@ -338,7 +367,8 @@ TEST_CASE("light sampling matches Lambert's formula on a diffuse plane under an 
     INFO("point " << sp.name << " at " << sp.p.x << " " << sp.p.y << " " << sp.p.z);
     const double expected = lambert_radiance(light, sp, kPlaneAlbedo.x, kLightRadiance.x);
     REQUIRE(expected > 1e-3);
-    check_mean(estimate(ctx, sp, 200000, seed++), expected, 0.35 * 1.0 / (0.5 * 2.0), 0.2 * 4.0 / (0.5 * 2.0));
+    check_mean(estimate(ctx, sp, 200000, seed++), expected, 0.35 * 1.0 / (0.5 * 2.0), 0.2 * 4.0 / (0.5 * 2.0),
+               kLightSamplingHint);
   }
 }
 
@@ -354,7 +384,8 @@ TEST_CASE("hemisphere sampling matches Lambert's formula on a diffuse plane unde
   for (const ShadingPoint& sp : plane_points(scene, bvh)) {
     INFO("point " << sp.name << " at " << sp.p.x << " " << sp.p.y << " " << sp.p.z);
     const double expected = lambert_radiance(light, sp, kPlaneAlbedo.x, kLightRadiance.x);
-    check_mean(estimate(ctx, sp, 1000000, seed++), expected, 0.35 * 1.0 / (0.5 * 2.0), 0.2 * 4.0 / (0.5 * 2.0));
+    check_mean(estimate(ctx, sp, 1000000, seed++), expected, 0.35 * 1.0 / (0.5 * 2.0), 0.2 * 4.0 / (0.5 * 2.0),
+               kHemisphereHint);
   }
 }
 
@@ -376,7 +407,7 @@ TEST_CASE("plane_arealight.dae reflects 0.0367388 at the image centre with light
   REQUIRE(norm(sp.p) < 1e-3f);
   ShadingContext ctx{scene, bvh};
   ctx.light_samples = 1;
-  check_mean(estimate(ctx, sp, 200000, 31), 0.0367388, 1.0, 1.0);
+  check_mean(estimate(ctx, sp, 200000, 31), 0.0367388, 1.0, 1.0, kLightSamplingHint);
 }
 
 TEST_CASE("a diffuse surface under the ambient light reflects rho L facing up and rho L (1 + n_y)/2 tilted, z tests",
@@ -404,7 +435,8 @@ TEST_CASE("a diffuse surface under the ambient light reflects rho L facing up an
     for (const ShadingPoint& sp : pts) {
       INFO((hemisphere ? "-H, " : "light sampling, ") << sp.name);
       const double expected = 0.6 * 1.5 * (1.0 + sp.n.y) / 2.0;
-      check_mean(estimate(ctx, sp, 200000, seed++), expected, 0.5, 0.75);
+      check_mean(estimate(ctx, sp, 200000, seed++), expected, 0.5, 0.75,
+                 hemisphere ? kHemisphereHint : kLightSamplingHint);
     }
   }
 }
@@ -451,6 +483,8 @@ TEST_CASE("delta lights give the exact radiance with zero variance and one shado
       REQUIRE(L.x == Approx(expected.x).epsilon(1e-5));
       REQUIRE(L.y == Approx(expected.y).epsilon(1e-5));
       REQUIRE(L.z == Approx(expected.z).epsilon(1e-5));
+      INFO("Hint: a point or directional light gives the same sample every time, so the course samples it once "
+           "(one shadow ray), whatever -l: -l applies to area lights only.");
       REQUIRE(counting.shadow == 2);  // one shadow ray per delta light, whatever -l is
     }
   }
@@ -469,6 +503,9 @@ TEST_CASE("delta lights give the exact radiance with zero variance and one shado
   ShadingContext ctx2{blocked, bvh2};
   const ShadingPoint below = traced_point(bvh2, Vec3(0.3f, 0.5f, 1.0f), Vec3(0.3f, 0, -0.2f), "shadowed");
   const Color L = estimate_direct_lighting_importance(ctx2, below.ray, below.hit, rng);
+  INFO("the plane under a card that hides the point light from it but not the sun: its light is the sun's alone. "
+       "Hint: 0 here means the sun's shadow ray was blocked too: it must start at kRayEpsilon, not at the surface "
+       "(min_t 0 or the course's 1e-11), and a directional light's shadow ray runs to infinity.");
   CHECK(L.x == Approx(albedo.x / M_PI * sun.radiance.x * -sun.direction.y).epsilon(1e-5));
 }
 
@@ -490,7 +527,9 @@ TEST_CASE("every plane pixel receives light: no shadow acne on plane_arealight.d
       ++plane_pixels;
       if (!(c.x > 0)) ++dark;
     }
-  INFO(dark << " of " << plane_pixels << " plane pixels got no light");
+  INFO(dark << " of " << plane_pixels << " plane pixels got no light. Hint: speckles of black (shadow acne) come "
+              "from shadow rays that find the surface they start on: start them at min_t = kRayEpsilon (1e-4); the "
+              "course's EPS_D (1e-11) is no offset at all in a float ray.");
   CHECK(plane_pixels > w * h / 4);
   CHECK(dark == 0);
 }

@@ -199,12 +199,20 @@ TEST_CASE("glass sample_f reflects with Schlick's probability from both sides, a
       if (wi.z * wo.z > 0) {  // reflected
         observed[0] += 1;
         REQUIRE(norm(wi - Vec3(-wo.x, -wo.y, wo.z)) < 1e-6f);
+        INFO("the reflection: pdf " << pdf << ", weight f |cos| / pdf " << weight.x << " " << weight.y << " "
+             << weight.z << ". Hint: glass reports the probability of the branch it chose, as the course's "
+                "does: pdf = R with f = R reflectance / |cos theta_i| for the reflection, pdf = 1 - R with f = "
+                "(1 - R) transmittance eta^2 / |cos theta_i| for the refraction (the weight f |cos| / pdf is the "
+                "same either way); R is Schlick's, with the cosine on the air side.");
         REQUIRE(pdf == Approx(R).epsilon(1e-4));
         for (int k = 0; k < 3; ++k) REQUIRE(weight[k] == Approx(m.reflectance[k]).epsilon(1e-4));
       } else {
         observed[1] += 1;
         REQUIRE(ct > 0);
         REQUIRE(std::fabs(wi.z) == Approx(ct).margin(2e-6));
+        INFO("the refraction: pdf " << pdf << ", weight f |cos| / pdf " << weight.x << " " << weight.y << " "
+             << weight.z << ". Hint: the refraction's pdf is 1 - R and f = (1 - R) transmittance eta^2 / "
+                "|cos theta_i|, eta^2 the squared ratio of the indices (n on wo's side / n on wi's side).");
         REQUIRE(pdf == Approx(1 - R).epsilon(1e-4));
         for (int k = 0; k < 3; ++k) REQUIRE(weight[k] == Approx(m.transmittance[k] * eta * eta).epsilon(1e-4));
       }
@@ -247,7 +255,10 @@ TEST_CASE("glass chooses reflection with the same probability for a path and its
     float R_inside = 0, R_outside = 0;
     glass_sample_f(m, wo, 0.0f, 0.5f, &wi, &R_inside);
     glass_sample_f(m, t, 0.0f, 0.5f, &wi, &R_outside);
-    INFO("inside at " << deg << " degrees");
+    INFO("inside at " << deg << " degrees: reflection probability " << R_inside << " leaving the glass, "
+                      << R_outside << " entering along the same path. Hint: Schlick's formula takes the cosine on "
+                         "the air side: for light leaving the glass (wo.z < 0) that is the refracted direction's "
+                         "|cos|, not |wo.z|.");
     CHECK(R_inside == Approx(R_outside).epsilon(1e-4));
   }
 }

@@ -29,12 +29,16 @@
 //   theta_h = atan(sqrt(-alpha ln(1 - u1)))        -> chi-square, reported pdf, furnace
 //   wi = wo reflected about the normal, not h      -> chi-square, reported pdf, furnace
 //   Lambda with pi instead of sqrt(pi) (course's)  -> G is Smith's, f formula, furnace
+//   tan^2 theta_h as (1 - cos^2) / cos^2 in float,  -> D formula (at alpha 0.005: 6982.14 for
+//     or as tan(acos(h.z))^2                          6978.83), reported pdf; the failures say so
+//   F at wi . h instead of wi.z                     -> f formula, reciprocity; the failure says so
 // (Keeping samples below the surface changes nothing: their pdf, from
 // microfacet_pdf, is 0 all the same.)
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <functional>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "common/rng.h"
@@ -102,6 +106,61 @@ double sampling_density(double alpha, const Vec3d& wo, const Vec3d& wi) {
   return beckmann(alpha, h) * h.z / (4 * std::fabs(dot(wi, h)));
 }
 
+// What a failure shows a student: where the value is off, by how much, and
+// the likely cause in the assignment's words (Catch prints an INFO only
+// when an assertion of its scope fails).
+std::string rgb(const Color& c) {
+  std::ostringstream s;
+  s << "(" << c.x << ", " << c.y << ", " << c.z << ")";
+  return s.str();
+}
+double relative_error(double got, double want) {
+  return want != 0 ? std::fabs(got / want - 1) : std::fabs(got);
+}
+
+// D at the half vector h against the formula.
+std::string d_hint(const Material& m, const Vec3& h, double got, double want) {
+  std::ostringstream s;
+  s << "alpha " << m.alpha << ", h = (" << h.x << ", " << h.y << ", " << h.z << "), theta_h "
+    << std::acos(std::min(1.0, double(h.z))) * 180 / M_PI << " degrees: your D " << got << ", the formula " << want
+    << " (off by " << relative_error(got, want) * 100 << " %). ";
+  // tan^2 from the cosine alone, as a student may write it, in float.
+  const float c = h.z, c2 = c * c, a2 = m.alpha * m.alpha;
+  const float from_cos = std::exp(-((1.0f - c2) / c2) / a2) / (float(M_PI) * a2 * c2 * c2);
+  if (relative_error(got, want) < 0.02 && std::fabs(got - from_cos) <= 1e-4 * std::fabs(from_cos))
+    s << "Hint: your D is what tan^2 theta_h = (1 - cos^2 theta_h) / cos^2 theta_h gives in float. Near the "
+         "normal cos theta_h is 0.9999..., so 1 - cos^2 keeps only a few digits, and exp(-tan^2 theta_h / "
+         "alpha^2) magnifies the loss at small alpha. Take tan^2 theta_h from h's x and y: "
+         "(h.x^2 + h.y^2) / h.z^2 (as the given microfacet_Lambda takes sin theta).";
+  else if (relative_error(got, want) < 0.02)
+    s << "Hint: this close, the formula is right and its float arithmetic is not: tan^2 theta_h from the cosine "
+         "((1 - cos^2) / cos^2, or tan(acos(h.z))) loses its digits near the normal, which exp(-tan^2 theta_h / "
+         "alpha^2) magnifies at small alpha. Take it from h's x and y: (h.x^2 + h.y^2) / h.z^2.";
+  else
+    s << "Hint: D = exp(-tan^2 theta_h / alpha^2) / (pi alpha^2 cos^4 theta_h): alpha squared in both places, "
+         "the fourth power of cos theta_h = h.z, and 0 for h.z <= 0.";
+  return s.str();
+}
+
+// microfacet_f(wo, wi) against the formula, factor by factor.
+std::string f_hint(const Material& m, const Vec3& wo, const Vec3& wi, int k, double got, double want) {
+  const Vec3d h = normalize(dvec(wo) + dvec(wi));
+  const double F = conductor_fresnel(m.eta[k], m.k[k], wi.z), G = smith_g(m.alpha, dvec(wo), dvec(wi));
+  const double D = beckmann(m.alpha, h), rest = G * D / (4 * double(wo.z) * wi.z);
+  std::ostringstream s;
+  s << "alpha " << m.alpha << ", channel " << k << ", cos theta_o " << wo.z << ", cos theta_i " << wi.z
+    << ": your f " << got << ", expected " << want << " = F(wi) " << F << " * G " << G << " * D(h) " << D
+    << " / (4 cos theta_o cos theta_i); your F(wi) " << microfacet_F(m, wi)[k] << ", G "
+    << microfacet_G(m, wo, wi) << ", D(h) " << microfacet_D(m, Vec3(float(h.x), float(h.y), float(h.z))) << ". ";
+  const double with_h = conductor_fresnel(m.eta[k], m.k[k], dot(dvec(wi), h)) * rest;
+  if (relative_error(got, with_h) < 2e-3 && relative_error(got, want) >= 2e-3)
+    s << "Hint: your f uses F at wi . h, the angle to the facet's normal. The course's F, and this part's "
+         "contract, is F(wi): the angle to the surface's normal, cos theta = wi.z.";
+  else
+    s << "Hint: if one of your F, G, D differs from the expected one, its own test fails too: fix that first.";
+  return s.str();
+}
+
 // An orthonormal frame about n, built independently of Frame::from_normal.
 Frame frame_about(const Vec3& n_) {
   const Vec3d n = normalize(dvec(n_));
@@ -133,7 +192,9 @@ TEST_CASE("Beckmann's D is the formula and is normalised: the integral of D(h) c
     for (int i = 0; i < 1000; ++i) {
       const Vec3 h = at_angle(89.0 * rng.uniform(), 2 * M_PI * rng.uniform());
       const double want = beckmann(alpha, normalize(dvec(h)));
-      REQUIRE(microfacet_D(m, h) == Approx(want).epsilon(1e-4).margin(1e-30));
+      const float got = microfacet_D(m, h);
+      INFO(d_hint(m, h, got, want));
+      REQUIRE(got == Approx(want).epsilon(1e-4).margin(1e-30));
     }
     CHECK(microfacet_D(m, Vec3(0.6f, 0.0f, -0.8f)) == 0.0f);
   }
@@ -183,6 +244,7 @@ TEST_CASE("microfacet_f is F(wi) G D(h) / (4 cos theta_o cos theta_i), and 0 unl
       for (int k = 0; k < 3; ++k) {
         const double want = conductor_fresnel(m.eta[k], m.k[k], wi.z) * smith_g(alpha, dvec(wo), dvec(wi)) *
                             beckmann(alpha, h) / (4 * double(wo.z) * wi.z);
+        INFO(f_hint(m, wo, wi, k, f[k], want));
         REQUIRE(f[k] == Approx(want).epsilon(2e-3).margin(1e-30));
       }
     }
@@ -247,9 +309,23 @@ TEST_CASE("microfacet sample_f reports the pdf of wi (not of h) and f, and no sa
         continue;
       }
       INFO("alpha " << alpha << ", wo.z " << wo.z << ", wi.z " << wi.z);
-      REQUIRE(pdf == Approx(sampling_density(alpha, dvec(wo), dvec(wi))).epsilon(2e-3));
+      const double want = sampling_density(alpha, dvec(wo), dvec(wi));
+      const double wi_dot_h = std::fabs(dot(dvec(wi), normalize(dvec(wo) + dvec(wi))));
+      {
+        INFO((relative_error(pdf, want * 4 * wi_dot_h) < 2e-3
+                  ? "Hint: your pdf is the half vector's density, D(h) cos theta_h: divide it by 4 |wi . h| (the "
+                    "Jacobian of reflecting about h) to get wi's."
+                  : relative_error(pdf, want) < 0.02
+                        ? "Hint: this close, the formula is right and its float arithmetic is not. The pdf is D(h) "
+                          "cos theta_h / (4 |wi . h|) with your microfacet_D: if the test of Beckmann's D fails, "
+                          "fix D first."
+                        : "Hint: the pdf of wi is D(h) cos theta_h / (4 |wi . h|), with h = normalize(wo + wi)."));
+        REQUIRE(pdf == Approx(want).epsilon(2e-3));
+      }
       REQUIRE(microfacet_pdf(m, wo, wi) == Approx(pdf).epsilon(1e-5));
       const Color g = microfacet_f(m, wo, wi);
+      INFO("Hint: the f that sample_f returns is microfacet_f(m, wo, wi) for the wi it drew (call it, as the given "
+           "microfacet_sample_f_cosine does).");
       for (int k = 0; k < 3; ++k) REQUIRE(f[k] == Approx(g[k]).epsilon(1e-5));
     }
     if (alpha >= 0.25f) CHECK(below > 0);  // rough lobes reach below the horizon at grazing wo
@@ -393,6 +469,11 @@ TEST_CASE("reciprocity: f(wo, wi) = f(wi, wo) with a constant F, the course's F(
       const Material g = gold(alpha);
       const Color ab = microfacet_f(g, a, b), ba = microfacet_f(g, b, a);
       const Color Fb = microfacet_F(g, b), Fa = microfacet_F(g, a);
+      INFO("alpha " << alpha << ", cos theta " << a.z << " and " << b.z << ": f(a, b) " << rgb(ab) << ", f(b, a) " << rgb(ba)
+           << ", F(a) " << rgb(Fa) << ", F(b) " << rgb(Fb)
+           << ". Hint: with the course's F(wi), f(wo, wi) F(wo) = f(wi, wo) F(wi) exactly as G and D(h) are the same "
+              "both ways; a mismatch means F is taken at another angle than wi.z (wi . h, say), or D or G treat wo "
+              "and wi differently.");
       for (int k = 0; k < 3; ++k) REQUIRE(ab[k] * Fa[k] == Approx(ba[k] * Fb[k]).epsilon(1e-4).margin(1e-30));
     }
   }

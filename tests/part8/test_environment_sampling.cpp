@@ -29,8 +29,12 @@
 //   the texel's corner instead of a point inside   -> both chi-squares, irradiance
 //   conditional CDF over the map's total, not the  -> distributions, both chi-squares
 //     row's
+//   the Jacobian's sin theta of the texel's centre -> pdf integrates, solid-angle chi-square,
+//     instead of wi's                                 irradiance; the failures say so
 // (Choosing the row with u2 and the column with u1 changes nothing: the
-// two numbers are independent and uniform.)
+// two numbers are independent and uniform. Neither do running sums in
+// float whose last is not set to exactly 1, nor the first row whose CDF is
+// at least u1 instead of above it: the renders and these tests agree.)
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
@@ -99,6 +103,21 @@ void angles(const Vec3& d, double* theta, double* phi) {
 Vec3 direction(double theta, double phi) {
   return Vec3(float(-std::cos(phi) * std::sin(theta)), float(std::cos(theta)), float(std::sin(phi) * std::sin(theta)));
 }
+
+// Whether environment_pdf takes the Jacobian's sin theta of the texel's
+// centre instead of wi's own: then pdf is the same at two points of one
+// texel, where pdf sin theta should be (a hint for the failures below).
+bool pdf_uses_texel_centre(const EnvironmentDistribution& d, const EnvironmentMap& map) {
+  const double phi = 2 * M_PI * 10.5 / 32;  // texel column 10, row 3 (lit)
+  const double t1 = M_PI * 3.2 / 16, t2 = M_PI * 3.8 / 16;
+  const double a = environment_pdf(d, map, direction(t1, phi)), b = environment_pdf(d, map, direction(t2, phi));
+  return a > 0 && std::fabs(a - b) <= 1e-6 * a && std::fabs(a * std::sin(t1) - b * std::sin(t2)) > 1e-3 * a;
+}
+const char* const kTexelCentreHint =
+    "Hint: your environment_pdf is constant over a texel: its Jacobian w h / (2 pi^2 sin theta) takes sin theta "
+    "of the texel's centre. It takes wi's own: sin theta = sqrt(1 - wi.y^2) (a texel's probability is spread "
+    "over its solid angle, sin theta d theta d phi, so the density per solid angle goes as 1 / sin theta within "
+    "it).";
 
 }  // namespace
 
@@ -196,6 +215,10 @@ TEST_CASE("environment_pdf integrates to each texel's probability over its solid
       CHECK(sum == Approx(p[size_t(y) * 32 + x]).epsilon(2e-3).margin(1e-9));
       total += sum;
     }
+  INFO("the density's integral over the sphere is " << total << ". "
+       << (pdf_uses_texel_centre(d, *map) ? kTexelCentreHint
+                                          : "Hint: environment_pdf is the probability of wi's texel times w h / "
+                                            "(2 pi^2 sin theta), sin theta of wi itself."));
   CHECK(total == Approx(1.0).epsilon(1e-4));
   CHECK(environment_pdf(d, *map, Vec3(0, 1, 0)) == 0.0f);  // sin theta = 0
 }
@@ -242,7 +265,12 @@ TEST_CASE("importance samples fit environment_pdf in cells of equal solid angle,
   }
   const ChiSquareResult r = chi_square_test(observed, expected, false);
   stats_log("solid-angle cells: " + r.describe());
-  INFO(r.describe() << "; level " << kAlphaEach);
+  INFO(r.describe() << "; level " << kAlphaEach << ". "
+                    << (pdf_uses_texel_centre(d, *map)
+                            ? kTexelCentreHint
+                            : "Hint: the samples do not follow environment_pdf: if the test of its integral over "
+                              "each texel fails too, fix environment_pdf first; else look at how "
+                              "sample_environment places a sample within its texel (uniform in phi and theta)."));
   CHECK(r.p_value >= kAlphaEach);
 }
 
@@ -279,7 +307,11 @@ TEST_CASE("importance and uniform sampling estimate a plane's irradiance, import
     what << (l == &importance ? "importance" : "uniform") << ": " << s.mean << " +- " << s.std_error()
          << " against " << E << ", z = " << z.z << ", p = " << z.p_value;
     stats_log(what.str());
-    INFO(what.str());
+    INFO(what.str() << (l == &importance
+                            ? ". Hint: each sample adds L cos theta / pdf with the pdf sample_environment reports; "
+                              "a biased mean comes from a pdf that does not match where the samples fall (see the "
+                              "tests of environment_pdf)"
+                            : ""));
     CHECK(z.p_value >= kAlphaEach);
     variance[which++] = s.variance();
   }

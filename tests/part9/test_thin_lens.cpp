@@ -20,6 +20,8 @@
 //   ray aimed at the focus point from the lens's     -> rays pass through the focus point, focus
 //     centre (direction not from the lens point)
 //   lens point not turned into world space           -> rays start on the lens (turned camera)
+//   focus point focal_distance along the normalised  -> rays pass through the focus point, focus;
+//     pinhole ray (a sphere, not the plane)             the failure says so
 //   -b applied before part 9                         -> the render gives the lens from part 9 on
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -84,12 +86,30 @@ TEST_CASE("thin-lens rays start on the lens disk and pass through the pinhole ra
     const Vec3d o = to_camera(cam, Vec3d(r.o.x, r.o.y, r.o.z));
     REQUIRE(std::fabs(o.z) < 1e-5);
     REQUIRE(std::hypot(o.x, o.y) <= cam.lens_radius * (1 + 1e-5));
-    REQUIRE(std::hypot(o.x, o.y) == Approx(cam.lens_radius * std::sqrt(u1)).margin(1e-5));
+    {
+      INFO("u1 " << u1 << ", u2 " << u2 << ": the ray starts at (" << o.x << ", " << o.y << ") on the lens, radius "
+                 << std::hypot(o.x, o.y) << ", expected " << cam.lens_radius * std::sqrt(u1)
+                 << ". Hint: the lens point is (r cos phi, r sin phi, 0) with r = lens_radius sqrt(u1) and phi = 2 pi "
+                    "u2: the square root makes the points uniform over the disk's area (r = lens_radius u1 crowds "
+                    "them at the centre), and u1 and u2 are uniform numbers in [0, 1), not a radius and an angle.");
+      REQUIRE(std::hypot(o.x, o.y) == Approx(cam.lens_radius * std::sqrt(u1)).margin(1e-5));
+    }
     // The pinhole ray meets the plane of focus at t = f / cos.
     const Ray pin = generate_ray(cam, x, y);
     const Vec3d pd(pin.d.x, pin.d.y, pin.d.z);
     const double cos_axis = -dot(pd, cam.axis_z);
     const Vec3d focus = cam.position + pd * (cam.focal_distance / cos_axis);
+    const Vec3d along_ray = cam.position + pd * cam.focal_distance;
+    INFO("the pinhole ray meets the plane of focus at (" << focus.x << ", " << focus.y << ", " << focus.z
+         << "); your ray passes " << distance_to_ray(cam, r, focus) << " from it. "
+         << (distance_to_ray(cam, r, along_ray) < 2e-5
+                 ? "Hint: your ray aims at the point focal_distance along the pinhole ray: that is a sphere, not "
+                   "the plane of focus. The plane is z = -focal_distance in camera space: scale the unnormalised "
+                   "sensor point ((2x - 1) tan(hFov / 2), (2y - 1) tan(vFov / 2), -1) by focal_distance, so that "
+                   "its z becomes -focal_distance."
+                 : "Hint: in camera space the ray starts at the lens point (z = 0) and passes through the point "
+                   "where the pinhole ray meets the plane z = -focal_distance; both turned into world space (the "
+                   "origin offset by cam.position), the direction normalised."));
     REQUIRE(distance_to_ray(cam, r, focus) < 2e-5);
   }
   // Without a lens the rays are the pinhole's.
@@ -120,6 +140,9 @@ TEST_CASE("a point in focus is seen through one image point, at depth z0 through
       double x, y;
       image_point(cam, sx, sy, &x, &y);
       const Ray r = generate_ray_for_thin_lens(cam, x, y, u1, u2);
+      INFO("Hint: every ray from the lens toward a point of the plane of focus must meet the pinhole ray there; if "
+           "the test of the plane of focus fails too, fix that first (the plane is z = -focal_distance in camera "
+           "space, and the lens radius lens_radius sqrt(u1)).");
       REQUIRE(distance_to_ray(cam, r, q) < 2e-5);
       widest = std::max(widest, std::hypot(sx, sy) * cam.screen_dist);
       if (z0 == f) {
@@ -150,7 +173,8 @@ TEST_CASE("thin-lens rays start uniformly over the lens disk, chi-square", "[par
   }
   const ChiSquareResult r = chi_square_test(observed, expected);
   stats_log("lens disk: " + r.describe());
-  INFO(r.describe());
+  INFO(r.describe() << ". Hint: lens points uniform over the disk's area need r = lens_radius sqrt(u1) (r = "
+                       "lens_radius u1 crowds them at the centre) and phi = 2 pi u2.");
   CHECK(r.p_value >= 0.01);
 }
 

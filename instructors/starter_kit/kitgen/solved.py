@@ -11,6 +11,10 @@ PART_FOLDER = re.compile(r"^stages/part(\d+)_[^/]+/")
 PART_LIST = re.compile(r"^\d+(?:-\d+)?(?:,\d+(?:-\d+)?)*$")
 
 
+# The kit's record of its solved parts, at its root.
+SOLVED_PARTS_FILE = "solved_parts.txt"
+
+
 class SolvedPartsError(KitError):
     """A --solved-parts value the generator cannot use (a usage error)."""
 
@@ -64,10 +68,22 @@ def describe(parts):
     return "parts " + (items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1])
 
 
+# What a solved part gives a stubbed part beyond its own functions, said in
+# the stubbed part's README of a kit that gives the first part solved:
+# {(solved part, stubbed part): the sentence}.
+GIVEN_FOR = {
+    (4, 6): "Part 4's `at_least_one_bounce_radiance` already treats mirror and glass as the course's Task 0 "
+            "asks (no light sampling at a delta surface, the emission its bounce reaches instead, `|cos θ|` "
+            "in the bounce's weight): \"Part 4's share\" below is written for you, nothing of it is yours to add.",
+}
+
+
 def notes(solved, stubbed):
-    """{kit document: the note it gets} for a kit with `solved` parts."""
+    """{kit document: the note it gets} for a kit with `solved` parts; the
+    key "stage" is the note of a solved part's README, "stage N" that of
+    stubbed part N's."""
     given, yours = describe(solved), describe(stubbed)
-    return {
+    say = {
         "README.md":
             f"> **This kit gives {given} solved.** Their code in `stages/` is complete (the\n"
             f"> reference solution), so their tests and grading cases pass and {yours},\n"
@@ -83,6 +99,26 @@ def notes(solved, stubbed):
             f"> them; {yours}, yours to write, build on them. What this README says of\n"
             f"> stand-ins and TODO lines does not apply to this kit.\n",
     }
+    for part in stubbed:
+        extra = [GIVEN_FOR[(p, part)] for p in sorted(solved) if (p, part) in GIVEN_FOR]
+        say[f"stage {part}"] = (
+            f"> **In this kit {given} {'is' if len(solved) == 1 else 'are'} given solved** (the reference\n"
+            f"> solution): what this README says {'that part gives' if len(solved) == 1 else 'they give'} "
+            f"is written. You write this part's functions.\n"
+            + "".join(f"> {line}\n" for line in wrap(" ".join(extra))))
+    return say
+
+
+def wrap(text, width=76):
+    """Lines of at most `width` characters (words kept whole)."""
+    lines, line = [], ""
+    for word in text.split():
+        if line and len(line) + 1 + len(word) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}" if line else word
+    return lines + ([line] if line else [])
 
 
 def add_note(lines, note):
@@ -93,3 +129,12 @@ def add_note(lines, note):
     before = ["\n"] if at else []
     after = [] if lines[at:at + 1] == ["\n"] else ["\n"]
     return lines[:at] + before + block + after + lines[at:]
+
+
+def solved_parts_file(solved):
+    """The lines of the kit's solved_parts.txt: comments, then one part
+    number a line (none in a kit where every part is the students')."""
+    return ["# The parts this starter kit gives solved: their code in stages/ is the\n",
+            "# reference solution. One part number a line; every part not listed is\n",
+            "# the students' to write (none listed: every part is). scripts/run.sh\n",
+            "# reads it. Lines starting with # are comments.\n"] + [f"{p}\n" for p in sorted(solved)]

@@ -8,7 +8,7 @@ from kitgen.base import SOURCE_EXTENSIONS, KitError
 from kitgen.checks import check_leaks, check_left_out_references, check_links, check_todo_parts
 from kitgen.given import check_given_code
 from kitgen.markers import mark_empty_helper_namespaces, strip_regions
-from kitgen.solved import add_note, check_solved_parts, notes, part_of
+from kitgen.solved import SOLVED_PARTS_FILE, add_note, check_solved_parts, notes, part_of, solved_parts_file
 
 
 REFERENCE_ONLY = "// REFERENCE ONLY"
@@ -119,9 +119,14 @@ def make_kit(root, solved=frozenset()):
     if solved:
         say = notes(solved, stubbed_parts)
         for rel in sorted(kit):
-            if rel in ("README.md", "stages/README.md") or (part_of(rel) in solved and rel.count("/") == 2
-                                                            and rel.endswith("/README.md")):
-                kit[rel] = add_note(kit[rel], say.get(rel, say["stage"]))
+            if rel in ("README.md", "stages/README.md"):
+                kit[rel] = add_note(kit[rel], say[rel])
+            elif part_of(rel) is not None and rel.count("/") == 2 and rel.endswith("/README.md"):
+                part = part_of(rel)
+                kit[rel] = add_note(kit[rel], say["stage"] if part in solved else say[f"stage {part}"])
+    # Which parts the kit gives solved, for the programs that read it
+    # (scripts/run.sh chooses its first scene by it).
+    kit[SOLVED_PARTS_FILE], origin[SOLVED_PARTS_FILE] = solved_parts_file(solved), None
     check_leaks(kit, solution_lines, outside_lines)
     check_links(kit)
     return kit, origin, left_out, regions_stubbed

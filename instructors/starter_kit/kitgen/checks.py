@@ -98,3 +98,55 @@ def check_leaks(kit, solution_lines, outside_lines):
         for number, line in enumerate(out, 1):
             if line.strip() in evidence:
                 raise KitError(f"{rel}:{number}: solution line leaked into the kit: {line.strip()}")
+
+
+# Where the kit's documents may name what the kit does not hold: what its
+# commands write (builds, outputs, the viewer's npm packages).
+GENERATED = ("build", "out", "grader_out", "writeup/out", "viewer/web/node_modules")
+TARGET_IN_COMMAND = re.compile(r"--target((?:\s+[A-Za-z_][A-Za-z0-9_]*)+)")
+DEFINED_TARGET = re.compile(r"\badd_(?:executable|library|custom_target)\(\s*([A-Za-z_][A-Za-z0-9_]*)")
+KIT_TESTS = re.compile(r"\bpt_add_tests\(\s*([A-Za-z_][A-Za-z0-9_]*)\s+LABELS\s+\"?([^\"\n]*?)\"?\s+SOURCES")
+LEFT_OUT_TEST = re.compile(r"\b(?:add_test\(\s*NAME|pt_kit_test\()\s*([A-Za-z_][A-Za-z0-9_]*)")
+
+
+def check_doc_names(kit, left_out_cmake):
+    """The kit's Markdown files name only what the kit has: every repository
+    path they give (`stages/...`, `scripts/...`) is a file or folder of the
+    kit (or what a command writes: GENERATED), every `--target` a target of
+    the kit's CMake files, and no test of a left-out CMake file
+    (left_out_cmake: their texts) by its name."""
+    present = set(kit)
+    folders = set()
+    for f in present:
+        while f:
+            f = os.path.dirname(f)
+            folders.add(f)
+    tops = sorted({p.split("/")[0] for p in present if "/" in p} | {"instructors", ".ci"})
+    path = re.compile(r"(?<![\w./-])((?:%s)/[A-Za-z0-9_./-]*[A-Za-z0-9_/])" % "|".join(map(re.escape, tops)))
+    targets = set()
+    for rel, out in kit.items():
+        if out is not None and rel.endswith(("CMakeLists.txt", ".cmake")):
+            text = "".join(out)
+            targets.update(DEFINED_TARGET.findall(text))
+            for name, labels in KIT_TESTS.findall(text):
+                targets.add(name)
+                targets.update(f"{label}_tests" for label in labels.split(";") if label)
+    gone_tests = {t for text in left_out_cmake for t in LEFT_OUT_TEST.findall(text)}
+    for rel, out in sorted(kit.items()):
+        if out is None or not rel.endswith(".md"):
+            continue
+        for number, line in enumerate(out, 1):
+            for p in path.findall(line):
+                q = p.rstrip("/")
+                if q in present or q in folders or any(q == g or q.startswith(g + "/") for g in GENERATED):
+                    continue
+                raise KitError(f"{rel}:{number}: names {p}, which the kit does not contain")
+            for group in TARGET_IN_COMMAND.findall(line):
+                for t in group.split():
+                    if t not in targets:
+                        raise KitError(f"{rel}:{number}: names the build target {t}, which the kit's CMake files "
+                                       f"do not define")
+            for word in re.findall(r"[A-Za-z_][A-Za-z0-9_]*", line):
+                if word in gone_tests:
+                    raise KitError(f"{rel}:{number}: names the test {word}, which the kit does not have "
+                                   f"(its CMake file is left out)")

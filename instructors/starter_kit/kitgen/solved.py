@@ -101,11 +101,10 @@ def notes(solved, stubbed):
     }
     for part in stubbed:
         extra = [GIVEN_FOR[(p, part)] for p in sorted(solved) if (p, part) in GIVEN_FOR]
-        say[f"stage {part}"] = (
-            f"> **In this kit {given} {'is' if len(solved) == 1 else 'are'} given solved** (the reference\n"
-            f"> solution): what this README says {'that part gives' if len(solved) == 1 else 'they give'} "
-            f"is written. You write this part's functions.\n"
-            + "".join(f"> {line}\n" for line in wrap(" ".join(extra))))
+        text = (f"**In this kit {given} {'is' if len(solved) == 1 else 'are'} given solved** (the reference "
+                f"solution): what this README says {'that part gives' if len(solved) == 1 else 'they give'} is "
+                f"written. You write this part's functions. " + " ".join(extra))
+        say[f"stage {part}"] = "".join(f"> {line}\n" for line in wrap(text))
     return say
 
 

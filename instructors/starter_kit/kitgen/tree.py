@@ -5,7 +5,7 @@ import os
 import subprocess
 
 from kitgen.base import SOURCE_EXTENSIONS, KitError
-from kitgen.checks import check_leaks, check_left_out_references, check_links, check_todo_parts
+from kitgen.checks import check_doc_names, check_leaks, check_left_out_references, check_links, check_todo_parts
 from kitgen.given import check_given_code
 from kitgen.markers import mark_empty_helper_namespaces, strip_regions
 from kitgen.solved import SOLVED_PARTS_FILE, add_note, check_solved_parts, notes, part_of, solved_parts_file
@@ -129,4 +129,10 @@ def make_kit(root, solved=frozenset()):
     kit[SOLVED_PARTS_FILE], origin[SOLVED_PARTS_FILE] = solved_parts_file(solved), None
     check_leaks(kit, solution_lines, outside_lines)
     check_links(kit)
+    left_out_cmake = []
+    for rel in files:
+        if rel.startswith(LEFT_OUT) and rel.endswith(("CMakeLists.txt", ".cmake")):
+            with open(os.path.join(root, rel), encoding="utf-8") as f:
+                left_out_cmake.append(f.read())
+    check_doc_names(kit, left_out_cmake)
     return kit, origin, left_out, regions_stubbed

@@ -395,7 +395,7 @@ def check_broken_markdown_link_fails(tmp):
         [a section](#kit), [the web](https://example.org/x.md) and `[code](nowhere.md)`.
 
         ```
-        [in a code block](instructors/mutants/mutants.txt)
+        [in a code block](nowhere/at/all.md)
         ```
         """)
     run = generate(base_tree({"README.md": good}), tmp)
@@ -406,6 +406,42 @@ def check_broken_markdown_link_fails(tmp):
     bad = good + "\n[Gradescope](instructors/gradescope/README.md#zip)\n"
     run = generate(base_tree({"stages/part1_demo/notes.md": bad.replace("stages/part1_demo/", "")}), tmp)
     expect_failure(run, "stages/part1_demo/notes.md:", "instructors/gradescope/README.md", what="a missing link target")
+
+
+def check_documents_name_only_what_the_kit_has(tmp):
+    """A kit document that names a repository path the kit does not hold (a
+    left-out file, a file that does not exist), a `--target` that the kit's
+    CMake files do not define, or a test of a left-out CMake file by its name
+    stops the generator, one line naming the document and line; what the kit
+    holds, what its commands write (build/, out/) and its own targets pass."""
+    cmake = "add_executable(demo main.cpp)\nadd_executable(pathtracer main.cpp)\n"
+    left_out = ("add_executable(make_sky make_sky.cpp)\nadd_custom_target(regenerate_sky COMMAND make_sky)\n"
+                "add_test(NAME sky_maps_up_to_date COMMAND make_sky --check)\n")
+    good = dedent("""
+        # Kit
+
+        Run `scripts/run.sh`, then `cmake --build build --target demo pathtracer`; your code is in
+        `stages/part1_demo/work.cpp`, the image in `out/image.png`, the binary `build/bin/demo`.
+
+        ```sh
+        scripts/run.sh
+        ```
+        """)
+    tree = {"CMakeLists.txt": cmake, "scripts/run.sh": "#!/bin/sh\n", "instructors/CMakeLists.txt": left_out,
+            "instructors/scene_generator/make_sky.cpp": "int main() {}\n", "README.md": good}
+    run = generate(base_tree(tree), tmp)
+    expect_success(run, "a document naming what the kit has")
+    bad = {
+        "a left-out file": ("The maps come from `instructors/scene_generator/make_sky.cpp`.",
+                            "instructors/scene_generator/make_sky.cpp"),
+        "a file that does not exist": ("See stages/part1_demo/missing.cpp.", "stages/part1_demo/missing.cpp"),
+        "a left-out target": ("Regenerate: `cmake --build build --target regenerate_sky`.", "regenerate_sky"),
+        "a left-out test": ("The test `sky_maps_up_to_date` checks them.", "sky_maps_up_to_date"),
+    }
+    for what, (line, needle) in bad.items():
+        text = good + "\n" + line + "\n"
+        run = generate(base_tree(dict(tree, **{"README.md": text})), tmp)
+        expect_failure(run, f"README.md:{line_of(text, line)}:", needle, what=what)
 
 
 def check_overlay_quoting_solution_line_fails(tmp):

@@ -98,7 +98,12 @@ def check_solved_part_keeps_its_solution_stubbed_part_loses_it(tmp):
                                                   f"is the students':\n{text}")
         expect(text.startswith("# ") and text.split("\n")[2].startswith("> **"), f"{rel}: the note is not below "
                                                                                   f"the title:\n{text}")
-    expect("solved" not in read(run, "stages/part2_more/README.md"), "part 2's README says it is solved")
+    stubbed = read(run, "stages/part2_more/README.md")
+    expect("Given solved in this kit." not in stubbed, f"part 2's README says it is solved:\n{stubbed}")
+    expect("**In this kit part 1 is given solved**" in stubbed and "You write this part's functions." in stubbed,
+           f"part 2's README does not say that part 1 is given solved and part 2 is the students':\n{stubbed}")
+    expect(read(run, "solved_parts.txt").split("\n")[-2:] == ["1", ""],
+           f"solved_parts.txt does not list part 1 alone:\n{read(run, 'solved_parts.txt')}")
 
 
 def check_this_tree_with_parts_1_to_5_solved(tmp):
@@ -130,6 +135,39 @@ def check_this_tree_with_parts_1_to_5_solved(tmp):
             expect(kit == usual[rel], f"{rel}: not the usual kit's file (parts 6-9 are stubbed as usual)")
             todo_parts.update(int(n) for n in re.findall(r"PT_TODO(?:_AS)?\((\d+)", kit))
     expect(todo_parts == {6, 7, 8, 9}, f"TODO lines of parts {sorted(todo_parts)} in the kit, expected 6-9")
+
+
+def check_this_tree_3_2_kit_says_what_parts_1_to_5_give(tmp):
+    """This tree's stages with --solved-parts 1-5: part 6's README says, under
+    its title, that part 4's handling of mirror and glass is written (the
+    course's Task 0, which part 6's README otherwise asks of whoever writes
+    part 4); parts 7-9 say that parts 1-5 are given and nothing of part 4;
+    solved_parts.txt lists 1 to 5, one a line. Without the option the READMEs
+    get no note and solved_parts.txt lists no part."""
+    stages = copy_stages(tmp)
+    run = generate(stages, tmp, options=("--solved-parts", "1-5"))
+    expect_success(run, "this tree's stages with --solved-parts 1-5")
+    numbers = [l for l in read(run, "solved_parts.txt").split("\n") if l and not l.startswith("#")]
+    expect(numbers == ["1", "2", "3", "4", "5"], f"solved_parts.txt lists {numbers}, expected 1 to 5")
+    for part in (6, 7, 8, 9):
+        rel = next(r for r in stages if re.match(rf"stages/part{part}_[^/]+/README.md$", r))
+        text = read(run, rel)
+        head = text.split("\n\n")[1]  # the paragraph under the title
+        expect(head.startswith("> **In this kit parts 1-5 are given solved**"),
+               f"{rel}: no note under the title saying parts 1-5 are given:\n{head}")
+        says_part4 = "`at_least_one_bounce_radiance` already treats mirror and glass" in " ".join(
+            l.lstrip("> ") for l in head.split("\n"))
+        expect(says_part4 == (part == 6), f"{rel}: the note {'does not say' if part == 6 else 'says'} that part 4's "
+                                          f"delta handling is given:\n{head}")
+    part6 = read(run, "stages/part6_mirror_glass/README.md")
+    expect("### Part 4's share (the course's Task 0)" in part6, "part 6's README has no section the note points to")
+
+    run = generate(stages, tmp)
+    expect_success(run, "this tree's stages")
+    numbers = [l for l in read(run, "solved_parts.txt").split("\n") if l and not l.startswith("#")]
+    expect(numbers == [], f"the kit without --solved-parts lists solved parts {numbers}")
+    expect("given solved" not in read(run, "stages/part6_mirror_glass/README.md"),
+           "without --solved-parts part 6's README speaks of parts given solved")
 
 
 def check_leak_of_a_stubbed_part_caught_when_others_are_solved(tmp):

@@ -283,9 +283,11 @@ def test_boxes(a):
                     p = pixel(img, x, y)
                     if p in colors:
                         colors[p] += 1
-            # A --quick image is a centre crop: a node figure need not show all three of its boxes.
+            # A --quick image shows the whole view (at the figure's size: the
+            # boxes are drawn over the PNG): a node figure shows all three boxes.
+            check(img[:2] == (480, 360), f"{fig['image']}: the whole 480 x 360 view (got {img[0]} x {img[1]})")
             wanted = [WHITE, RED, BLUE] if "--bvh-node" in fig["command"] else [YELLOW]
-            check(sum(colors[c] for c in wanted) >= 20,
+            check(all(colors[c] >= 20 for c in wanted),
                   f"{fig['image']}: shows its boxes ({', '.join(f'{colors[c]} pixels {c}' for c in wanted)})")
 
 

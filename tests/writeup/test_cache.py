@@ -51,6 +51,12 @@ class CacheTest(unittest.TestCase):
                         self.render(threads=2), self.render(args=f"--part 3 -s 4 -e {self.env}")):
             self.assertNotEqual(self.key(changed), base)
         self.assertNotEqual(self.key(self.render(), binary="c" * 64), base)
+        # A --quick preview's entry holds the render shrunk: another factor, another image.
+        shrunk = self.render()
+        shrunk.preview = 4
+        self.assertNotEqual(self.key(shrunk), base)
+        shrunk.preview = 1
+        self.assertEqual(self.key(shrunk), base)
         # The same scene name with other bytes, and other bytes in the -e file.
         with_env = self.key(self.render(args=f"--part 3 -s 4 -e {self.env}"))
         with open(self.env, "a") as f:

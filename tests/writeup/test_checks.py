@@ -92,6 +92,19 @@ class ChecksTest(unittest.TestCase):
                          [("todo", TODO)])
         self.assertEqual(checks.render_problems(Figure(Job("ok", lit))), [])
         self.assertEqual(checks.render_problems(Figure(Job("failed", black_todo))), [])
+        # --quick: a preview of one colour shows nothing, lit or not; the
+        # black flag, when there is one, says it already.
+        flat = dict(lit, preview={"width": 120, "height": 90, "flat": True, "color": [0, 0, 0]})
+        self.assertEqual(checks.render_problems(Figure(Job("ok", flat))),
+                         [("flat", "the preview shows nothing: every pixel is black")])
+        grey = dict(lit, preview={"width": 120, "height": 90, "flat": True, "color": [12, 12, 40]})
+        self.assertEqual(checks.render_problems(Figure(Job("cached", grey))),
+                         [("flat", "the preview shows nothing: every pixel is the same colour, 12 12 40")])
+        self.assertEqual(checks.render_problems(Figure(Job("ok", grey), expect_black=True)), [])
+        self.assertEqual(checks.render_problems(Figure(Job("ok", dict(black_todo, preview=flat["preview"])))),
+                         [("todo", TODO), ("black", "the image is all black (every pixel 0)")])
+        shows = dict(lit, preview={"width": 120, "height": 90, "flat": False, "color": [0, 0, 0]})
+        self.assertEqual(checks.render_problems(Figure(Job("ok", shows))), [])
 
     def test_problem_texts(self):
         self.assertEqual(checks.problem_text("todo", TODO), f"the renderer printed '{TODO}'")

@@ -46,6 +46,8 @@ cells = [
   {{ label = "CBbunny.dae (hemisphere)", scene = "CBbunny.dae", args = "-H -s 8" }},
   {{ label = "same", size = [20, 10], seed = 9, expect_black = false }},
   {{ label = "same", name = "custom name", args = "-m 3", expect_black = true }},
+  {{ label = "few samples", args = "-s 8", quick_max_samples = 6 }},
+  {{ label = "boxes", args = "--part 2 --bvh-boxes 3" }},
 ]
 
 [[section]]
@@ -123,7 +125,7 @@ class RecipesTest(unittest.TestCase):
         self.assertEqual([s["id"] for s in rs.sections], ["s1", "s2"])
         self.assertEqual(rs.sections[1]["title"], "s2")  # the id when there is no title
         self.assertEqual([it["id"] for it in rs.sections[0]["items"]], ["sweep", "cells"])
-        self.assertEqual(len(rs.renders), 2 + 3 + 4)
+        self.assertEqual(len(rs.renders), 2 + 5 + 4)
         table = rs.sections[1]["items"][0]
         self.assertEqual(table["variants"], ["no BVH", "BVH"])
         self.assertEqual([row["scene"] for row in table["rows"]], ["CBempty.dae", "cow.dae"])
@@ -139,7 +141,7 @@ class RecipesTest(unittest.TestCase):
     def test_cells_override_the_grid(self):
         rs = by_name(self.file.load())
         self.assertEqual(sorted(k for k in rs if k.startswith("cells/")),
-                         ["cells/cbbunny", "cells/custom_name", "cells/same"])
+                         ["cells/boxes", "cells/cbbunny", "cells/custom_name", "cells/few_samples", "cells/same"])
         bunny = rs["cells/cbbunny"]
         self.assertEqual(flags.flat(bunny.flags), ["--part", "3", "-m", "1", "-s", "8", "-H"])
         self.assertEqual(os.path.basename(bunny.scene), "CBbunny.dae")
@@ -166,12 +168,22 @@ class RecipesTest(unittest.TestCase):
     def test_quick_caps(self):
         rs = by_name(self.file.load(quick=True))
         r = rs["sweep/a_64_0_05"]
-        self.assertEqual(r.size, (16, 12))
+        # An image keeps its size (the whole view) and is shrunk to at most
+        # quick_size afterwards: 40 x 30 by 3 (ceil(40 / 16), ceil(30 / 12)).
+        self.assertEqual((r.size, r.preview), ((40, 30), 3))
         self.assertEqual(flags.get_flag(r.flags, "-s"), ["4"])
         self.assertEqual(flags.get_flag(r.flags, "-l"), ["2"])
-        self.assertEqual(flags.get_flag(r.flags, "-a"), ["4", "0.05"])   # batch at most -s
-        self.assertEqual(flags.get_flag(rs["sweep/a_2_0_1"].flags, "-a"), ["2", "0.1"])
-        self.assertEqual(rs["cells/same"].size, (16, 10))                # the smaller of each
+        self.assertEqual(flags.get_flag(r.flags, "-a"), ["1", "0.05"])   # batch at most a quarter of -s
+        self.assertEqual(flags.get_flag(rs["sweep/a_2_0_1"].flags, "-a"), ["1", "0.1"])
+        self.assertEqual((rs["cells/same"].size, rs["cells/same"].preview), ((20, 10), 2))
+        self.assertEqual(flags.get_flag(rs["cells/cbbunny"].flags, "-s"), ["4"])
+        self.assertEqual(flags.get_flag(rs["cells/few_samples"].flags, "-s"), ["6"])  # the cell's own cap
+        self.assertEqual(rs["cells/boxes"].preview, 1)  # drawn over the PNG: not shrunk
+        # A table's renders, whose numbers alone are shown, are quick_size.
+        self.assertEqual((rs["tab/cow_bvh"].size, rs["tab/cow_bvh"].preview), ((16, 12), 1))
+        full = by_name(self.file.load())
+        self.assertEqual({r.preview for r in full.values()}, {1})
+        self.assertEqual(flags.get_flag(full["cells/few_samples"].flags, "-s"), ["8"])
         # Timing renders do not run alone in --quick, and remember that they would have.
         t = rs["tab/cbempty_no_bvh"]
         self.assertEqual((t.exclusive, t.quick_exclusive, t.threads), (False, True, 1))
@@ -222,6 +234,8 @@ class BadRecipesTest(unittest.TestCase):
         self.refused('id = "cells"', 'id = "a b"', "may only hold letters")
         self.refused('vary = {', 'cells = []\nvary = {', "grid 'sweep'", "either 'vary' or 'cells'")
         self.refused("threads = 1", "threads = 0", "table 'tab'", "'threads'")
+        self.refused("quick_max_samples = 6", "quick_max_samples = 0", "cell 'few samples'", "'quick_max_samples'")
+        self.refused("quick_max_samples = 6", 'quick_max_samples = "6"', "cell 'few samples'", "'quick_max_samples'")
         self.refused('ratio = ["render_seconds", "no BVH", "BVH"]', 'ratio = ["render_seconds", "no BVH", "GPU"]',
                      "table 'tab', column 2", "'ratio'")
         self.refused('variant = "no BVH"', 'variant = "GPU"', "unknown variant 'GPU'")

@@ -90,7 +90,7 @@ class OrderTest(unittest.TestCase):
 
 
 FAKE = """#!{python}
-import json, sys
+import json, struct, sys
 args = sys.argv[1:]
 if "-H" in args:
     print("pathtracer: error: no such thing", file=sys.stderr)
@@ -99,6 +99,9 @@ if "--no-rr" not in args:
     with open(args[args.index("--stats-json") + 1], "w") as f:
         json.dump({{"render_seconds": 0.25, "max_radiance": 0 if "-o" in args else 3.5}}, f)
 open(args[args.index("-f") + 1], "wb").close()
+if "--pfm" in args and "-e" not in args:  # a 4 x 2 image, left half lit, for the preview
+    with open(args[args.index("--pfm") + 1], "wb") as f:
+        f.write(b"PF\\n4 2\\n-1\\n" + struct.pack("<24f", *([1.0] * 6 + [0.0] * 6) * 2))
 print("TODO: implement Part 4 (x.cpp)" if "-o" in args else "done")
 """
 
@@ -127,6 +130,9 @@ class RunTest(unittest.TestCase):
         os.makedirs(c.dir)
         jobs = [job("lit", 3), job("dark", 2, args="-o 0"), job("broken", 1, args="-H"), job("nojson", 0.5,
                                                                                             args="--no-rr")]
+        small, nopfm = job("small", 0.4, args="-m 2"), job("nopfm", 0.3, args="-e sky.exr")
+        small.proto.preview = nopfm.proto.preview = 2
+        jobs += [small, nopfm]
         history, progress = {}, Progress()
         scheduler.Scheduler(jobs, binary, "/somewhere/pathtracer", c, 2, 0, history, progress).run()
         st = {j.proto.name: j for j in jobs}
@@ -144,7 +150,7 @@ class RunTest(unittest.TestCase):
                                              "render.json", "-f", "render.png", "/nonexistent/scene.dae"])
         for f in ("render.json", "render.png", "log.txt"):
             self.assertTrue(os.path.isfile(os.path.join(c.dir, dark.key, f)), f)
-        self.assertEqual(len(history), 2)                 # the times of the renders that succeeded
+        self.assertEqual(len(history), 3)                 # the times of the renders that succeeded
         broken, nojson = st["broken"], st["nojson"]
         self.assertEqual(broken.status, "failed")
         self.assertEqual(broken.error, "pathtracer exited with status 1: pathtracer: error: no such thing")
@@ -152,7 +158,17 @@ class RunTest(unittest.TestCase):
         self.assertEqual((nojson.status, nojson.error), ("failed", "pathtracer exited with status 0 but wrote "
                                                                    "no render.json"))
         self.assertFalse(os.path.exists(os.path.join(c.dir, broken.key)))
-        self.assertEqual(sorted(os.listdir(c.dir)), sorted(["failed", lit.key, dark.key]))
+        # --quick: the PNG is the PFM shrunk, the PFM deleted, and what the
+        # preview shows kept with the checks; without a PFM the render failed.
+        self.assertEqual((small.status, small.checks["preview"]),
+                         ("ok", {"width": 2, "height": 1, "flat": False, "color": [255, 255, 255]}))
+        self.assertIn("--pfm", small.argv)
+        self.assertEqual(sorted(os.listdir(os.path.join(c.dir, small.key))),
+                         ["log.txt", "meta.json", "render.json", "render.png"])
+        self.assertEqual(nopfm.status, "failed")
+        self.assertIn("cannot make the preview from the render's --pfm output", nopfm.error)
+        self.assertNotIn("preview", lit.checks)
+        self.assertEqual(sorted(os.listdir(c.dir)), sorted(["failed", lit.key, dark.key, small.key]))
 
 
 if __name__ == "__main__":

@@ -12,8 +12,10 @@
     test_writeup.py bvh       --pathtracer EXE
 
 quick:   a --quick run of the real recipes into DIR/quick: every figure
-         rendered, every image the page references exists, every table
-         cell a number, nothing flagged, every expect_black figure black.
+         rendered, each a preview of its whole view (its -r size shrunk to
+         at most 120 x 90; the BVH figures at their size), every image the
+         page references exists, every table cell a number, nothing
+         flagged, every expect_black figure black.
 browser: that page in headless Chromium: it loads, every image loads, no
          errors; screenshots DIR/page.png (1280 x 2000) and DIR/page_full.png.
 cache:   a second run renders nothing; changing one recipe re-renders only
@@ -38,6 +40,7 @@ import json
 import os
 import re
 import shutil
+import struct
 import sys
 import tempfile
 import tomllib
@@ -49,6 +52,13 @@ import test_bvh_figures  # noqa: E402
 import test_flags  # noqa: E402
 
 NUMBER = re.compile(r"^-?[0-9][0-9,]*(\.[0-9]+)?×?$")
+
+
+def png_size(path):
+    """(width, height) from a PNG's header."""
+    with open(path, "rb") as f:
+        head = f.read(24)
+    return struct.unpack(">II", head[16:24]) if head[:8] == b"\x89PNG\r\n\x1a\n" else None
 
 
 def test_quick(a):
@@ -72,6 +82,15 @@ def test_quick(a):
     for f in figures:
         check(f["status"] in ("ok", "cached"), f"{f['grid']}/{f['name']} rendered (status {f['status']})")
         check(f["image"] and os.path.isfile(os.path.join(out, f["image"])), f"{f['grid']}/{f['name']}: image exists")
+        # A preview of the whole view: rendered at the figure's size (-r), then
+        # shrunk to at most 120 x 90; the BVH figures' boxes keep them full size.
+        size = re.search(r" -r (\d+) (\d+) ", f["command"])
+        if check(size, f"{f['grid']}/{f['name']}: the command gives -r") and f["image"]:
+            w, h = (int(v) for v in size.groups())
+            k = 1 if "--bvh-" in f["command"] else max(-(-w // 120), -(-h // 90))
+            check(png_size(os.path.join(out, f["image"])) == (w // k, h // k),
+                  f"{f['grid']}/{f['name']}: a {w // k} x {h // k} preview of the {w} x {h} view "
+                  f"(got {png_size(os.path.join(out, f['image']))})")
         if f.get("rate"):
             check(os.path.isfile(os.path.join(out, f["rate_image"])), f"{f['grid']}/{f['name']}: rate image exists")
         check(f["command"].split()[0].endswith("pathtracer") and "--seed" in f["command"],

@@ -50,6 +50,8 @@ def cache_key(r, binary_hash, file_hash):
             "scene": os.path.basename(r.scene), "files": files}
     if r.env_probability:
         what["env_probability"] = True  # the entry holds that image too
+    if r.preview > 1:
+        what["preview"] = r.preview  # the entry's PNG is the render shrunk this many times
     desc = json.dumps(what)
     return hashlib.sha256(desc.encode()).hexdigest()[:32]
 

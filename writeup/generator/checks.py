@@ -81,6 +81,10 @@ def render_problems(r):
     out = [("todo", line) for line in c.get("todo") or []]
     if c.get("black") and not r.expect_black:
         out.append(("black", "the image is all black (every pixel 0)"))
+    elif (c.get("preview") or {}).get("flat") and not r.expect_black:
+        color = c["preview"].get("color") or [0, 0, 0]
+        out.append(("flat", "the preview shows nothing: every pixel is "
+                    + ("black" if color == [0, 0, 0] else "the same colour, " + " ".join(map(str, color)))))
     if c.get("image_error"):
         out.append(("image", f"the image could not be checked: {c['image_error']}"))
     return out

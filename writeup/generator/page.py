@@ -135,9 +135,12 @@ class Page:
         h.append(f"<p class=\"meta\">{inline_md(run_text)}</p>\n")
         md.append(f"# {title}\n\n{run_text}\n\n")
         if recipes.quick:
-            q = (f"Quick check (--quick): every image at most {recipes.quick_size[0]}×{recipes.quick_size[1]} "
-                 f"(a crop of the centre of the view), at most {recipes.quick_max_samples} camera rays and "
-                 f"{recipes.quick_max_light_samples} light samples. The numbers and images are not the write-up's.")
+            q = (f"Quick check (--quick): every image shows its figure's whole view, rendered at the figure's "
+                 f"size with at most {recipes.quick_max_samples} camera ray(s) per pixel (unless its recipe says "
+                 f"otherwise) and {recipes.quick_max_light_samples} light samples, and shrunk to at most "
+                 f"{recipes.quick_size[0]}×{recipes.quick_size[1]} (the BVH's boxes are shown at full size); the "
+                 f"tables' renders are the centre of the view at that size. The numbers and images are not the "
+                 f"write-up's.")
             h.append(f"<p class=\"banner\">{html.escape(q)}</p>\n")
             md.append(f"> {q}\n\n")
 

@@ -3,6 +3,7 @@ into the renders of the page. Any unknown field or bad value is an
 InputError naming the file and the recipe."""
 
 import fnmatch
+import math
 import os
 import re
 import shlex
@@ -14,9 +15,13 @@ from .flags import FILE_FLAGS, get_flag, merge_flags, parse_flags, set_flag
 SETTINGS_KEYS = frozenset({"title", "scenes_dir", "size", "seed", "quick_size",
                            "quick_max_samples", "quick_max_light_samples"})
 SECTION_KEYS = frozenset({"id", "title", "text", "grid", "table"})
-GRID_KEYS = frozenset({"id", "title", "text", "scene", "args", "size", "quick_size", "seed",
+GRID_KEYS = frozenset({"id", "title", "text", "scene", "args", "size", "quick_size", "quick_max_samples", "seed",
                        "columns", "rate", "env_probability", "vary", "cells", "expect_black"})
-CELL_KEYS = frozenset({"label", "name", "scene", "args", "size", "quick_size", "seed", "expect_black"})
+CELL_KEYS = frozenset({"label", "name", "scene", "args", "size", "quick_size", "quick_max_samples", "seed",
+                       "expect_black"})
+# Flags that draw over the PNG, which the preview made from the PFM would
+# not show: a figure with one is rendered at its full size in --quick.
+OVERLAY_FLAGS = ("--bvh-boxes", "--bvh-node")
 VARY_KEYS = frozenset({"flag", "values"})
 TABLE_KEYS = frozenset({"id", "title", "text", "scene", "scenes", "args", "size", "quick_size",
                         "seed", "threads", "exclusive", "variants", "columns"})
@@ -71,6 +76,7 @@ class Render:
         self.rate = False
         self.env_probability = False
         self.expect_black = False
+        self.preview = 1  # --quick: the image is shrunk this many times from the render (preview.py)
 
     def side_images(self):
         """The (cache file, figure file suffix, caption) of each image shown beside the render."""
@@ -111,8 +117,8 @@ class Recipes:
         self.scenes_dir = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(self.path)), scenes_dir))
         self.size = want_size(s.get("size", [480, 360]), where)
         self.seed = want(s.get("seed", 1), int, where, "seed")
-        self.quick_size = want_size(s.get("quick_size", [64, 48]), where, "quick_size")
-        self.quick_max_samples = want(s.get("quick_max_samples", 8), int, where, "quick_max_samples")
+        self.quick_size = want_size(s.get("quick_size", [120, 90]), where, "quick_size")
+        self.quick_max_samples = want(s.get("quick_max_samples", 1), int, where, "quick_max_samples")
         self.quick_max_light_samples = want(s.get("quick_max_light_samples", 4), int, where,
                                             "quick_max_light_samples")
 
@@ -162,29 +168,38 @@ class Recipes:
             raise InputError(f"{where}: scene file not found: {display_path(path)}")
         return os.path.abspath(path)
 
-    def _quick_caps(self, flags, size, quick_size):
-        """A quick render's flags and size: size, -s, -l and the -a batch capped."""
-        size = (min(size[0], quick_size[0]), min(size[1], quick_size[1]))
+    def _quick_caps(self, flags, quick_max_samples):
+        """A quick render's flags: -s, -l and the -a batch capped (a batch at
+        most a quarter of -s, so that a pixel can still stop early)."""
         s = get_flag(flags, "-s")
-        if s is not None and int(s[0]) > self.quick_max_samples:
-            flags = set_flag(flags, "-s", [str(self.quick_max_samples)])
+        if s is not None and int(s[0]) > quick_max_samples:
+            flags = set_flag(flags, "-s", [str(quick_max_samples)])
         l = get_flag(flags, "-l")
         if l is not None and int(l[0]) > self.quick_max_light_samples:
             flags = set_flag(flags, "-l", [str(self.quick_max_light_samples)])
         a = get_flag(flags, "-a")
         if a is not None:
-            smax = int(get_flag(flags, "-s", ["1"])[0])
-            if int(a[0]) > smax:
-                flags = set_flag(flags, "-a", [str(smax), a[1]])
-        return flags, size
+            batch = max(1, int(get_flag(flags, "-s", ["1"])[0]) // 4)
+            if int(a[0]) > batch:
+                flags = set_flag(flags, "-a", [str(batch), a[1]])
+        return flags
 
-    def _render(self, where, gid, name, label, scene, flags, size, quick_size, seed, threads=None, exclusive=False):
+    def _render(self, where, gid, name, label, scene, flags, size, quick_size, seed, threads=None, exclusive=False,
+                quick_max_samples=None, image=True):
+        """One render. In --quick, an image (a grid's) is rendered at its full
+        size, the whole view, with few samples and shown shrunk to at most
+        quick_size (preview); a table's render, whose numbers are all that is
+        shown, is rendered at quick_size (the centre of the view)."""
         scene_path = self._scene(scene, where)
-        quick_exclusive = False
+        quick_exclusive, preview = False, 1
         if self.quick:
             # Quick renders are checks, not timings: no render needs to run alone.
             quick_exclusive, exclusive = exclusive, False
-            flags, size = self._quick_caps(flags, size, quick_size)
+            flags = self._quick_caps(flags, quick_max_samples or self.quick_max_samples)
+            if not image:
+                size = (min(size[0], quick_size[0]), min(size[1], quick_size[1]))
+            elif not any(get_flag(flags, f) is not None for f in OVERLAY_FLAGS):
+                preview = max(1, math.ceil(max(size[0] / quick_size[0], size[1] / quick_size[1])))
         for flag in FILE_FLAGS:
             v = get_flag(flags, flag)
             if v is not None:
@@ -195,6 +210,7 @@ class Recipes:
         r = Render(where=where, grid=gid, name=name, label=label, scene=scene_path,
                    flags=flags, size=size, seed=seed, threads=threads, exclusive=exclusive,
                    quick_exclusive=quick_exclusive)
+        r.preview = preview
         self.renders.append(r)
         return r
 
@@ -217,6 +233,9 @@ class Recipes:
         where = f"{self.display}: grid '{gid}'"
         check_keys(g, GRID_KEYS, where)
         base, size, qsize, seed = self._shared_fields(g, where)
+        qmax = g.get("quick_max_samples")
+        if qmax is not None:
+            want(qmax, int, where, "quick_max_samples")
         columns = want(g.get("columns", 0), int, where, "columns")
         rate = want(g.get("rate", False), bool, where, "rate")
         env_probability = want(g.get("env_probability", False), bool, where, "env_probability")
@@ -236,7 +255,11 @@ class Recipes:
             csize = want_size(c["size"], cw) if "size" in c else size
             cqsize = want_size(c["quick_size"], cw, "quick_size") if "quick_size" in c else qsize
             cseed = want(c.get("seed", seed), int, cw, "seed")
-            r = self._render(cw, gid, name, label, c.get("scene", g.get("scene")), flags, csize, cqsize, cseed)
+            cqmax = c.get("quick_max_samples", qmax)
+            if cqmax is not None and want(cqmax, int, cw, "quick_max_samples") < 1:
+                raise InputError(f"{cw}: 'quick_max_samples' must be at least 1")
+            r = self._render(cw, gid, name, label, c.get("scene", g.get("scene")), flags, csize, cqsize, cseed,
+                             quick_max_samples=cqmax)
             r.rate = rate
             r.env_probability = env_probability
             if env_probability and get_flag(flags, "-e") is None:
@@ -333,6 +356,6 @@ class Recipes:
                 flags = merge_flags(base, parse_flags(v.get("args", ""), vw))
                 row["renders"][vl] = self._render(vw, tid, slug(f"{os.path.splitext(scene)[0]}_{vl}"),
                                                   f"{scene}, {vl}", scene, flags, size, qsize, seed,
-                                                  threads=threads, exclusive=exclusive)
+                                                  threads=threads, exclusive=exclusive, image=False)
             table["rows"].append(row)
         return table

@@ -10,7 +10,7 @@ import signal
 import subprocess
 import time
 
-from . import checks
+from . import checks, preview
 from .base import display_path
 from .cache import command_key, entry_images
 from .flags import get_flag, recipe_args
@@ -38,6 +38,7 @@ class Job:
         self.dir = None
         self.cpu = None
         self.checks = None      # checks.make_checks() of a finished render
+        self.preview = None     # --quick: what preview.make_preview() found
 
 
 def make_jobs(renders, key_of):
@@ -149,6 +150,8 @@ class Scheduler:
         job.threads = threads
         job.tmp = self.cache.new_entry(job.key)
         extra = ["--env-probability", "render_env_probability.png"] if r.env_probability else []
+        if r.preview > 1:
+            extra += ["--pfm", "render.pfm"]  # the preview is made from it (preview.py)
         job.argv = ([self.binary] + recipe_args(r) + ["-t", str(threads), "--no-progress",
                                                       "--stats-json", "render.json"] + extra
                     + ["-f", "render.png", r.scene])
@@ -196,8 +199,12 @@ class Scheduler:
             job.log.close()
         if error is None:
             error = self.outcome(job, rc)
+        if error is None and job.proto.preview > 1:
+            error = self.make_preview(job)
         if error is None:
             job.checks = checks.make_checks(os.path.join(job.tmp, "log.txt"), job.stats)
+            if job.preview is not None:
+                job.checks["preview"] = job.preview
         job.meta = {"argv": [display_path(self.display_binary)] + job.argv[1:-1] + [display_path(job.argv[-1])],
                     "threads": job.threads, "wall_seconds": round(wall, 3),
                     "cpu_seconds": round(job.cpu, 3) if job.cpu is not None else None,
@@ -213,6 +220,19 @@ class Scheduler:
             job.status = "ok"
             self.history[command_key(job.proto)] = wall * job.threads
         self.progress.done(job)
+
+    def make_preview(self, job):
+        """--quick: the render's PNG replaced by its preview (preview.py),
+        and its PFM deleted; None, or what went wrong."""
+        pfm = os.path.join(job.tmp, "render.pfm")
+        try:
+            job.preview = preview.make_preview(pfm, os.path.join(job.tmp, "render.png"), job.proto.preview)
+        except (OSError, ValueError) as e:
+            return f"cannot make the preview from the render's --pfm output: {e}"
+        finally:
+            if os.path.exists(pfm):
+                os.remove(pfm)
+        return None
 
     def reap(self):
         """Finishes the renders that have ended or run out of time."""

@@ -46,7 +46,7 @@ fi
 todo_logs=("$log")
 if [ "$starts_on_3_2" = 1 ]; then
   probe_log=out/todo_probe.stderr.txt
-  build/bin/pathtracer -t "$threads" -s 1 -l 1 -m 2 -r 32 24 -e scenes/sky_sun.exr -b 0.1 \
+  build/bin/pathtracer -t "$threads" -s 1 -l 1 -m 2 -r 480 360 -e scenes/sky_sun.exr -b 0.1 \
     -f out/todo_probe.png scenes/CBspheres_microfacet.dae >/dev/null 2>"$probe_log" || true
   rm -f out/todo_probe.png out/todo_probe_rate.png  # only its TODO lines are wanted
   todo_logs+=("$probe_log")

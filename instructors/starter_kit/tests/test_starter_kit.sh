@@ -3,6 +3,7 @@
 # one build of it in WORK_DIR (ctest runs each step as a test of its own,
 # instructors/starter_kit/CMakeLists.txt):
 #   generate            write the kit (WORK_DIR/kit) from this tree
+#   generate_3_2        write the kit for Project 3-2 (--solved-parts 1-5) instead
 #   no_solution_code    no solution markers, no solution line, no
 #                       instructors' or reference-only file in the kit
 #   students_documents  the students' README, grader README and run.sh; no
@@ -12,15 +13,23 @@
 #   renders             its pathtracer renders and names the missing function
 #   run_sh              its scripts/run.sh renders, lists what is missing and
 #                       grades (and with --part 1 grades part 1 alone)
-#   part_tests          its part tests fail naming what to implement; nothing crashes
+#   readme_checks       each part README's check command (scripts/check.sh N)
+#                       builds (on a fresh kit only what it needs) and runs the
+#                       part's tests: a solved part's pass, a stubbed part's fail
+#                       naming what to implement; nothing crashes; an unbuilt
+#                       part's ctest fails saying it is not built
+#   run_sh_3_2          the 3-2 kit's scripts/run.sh renders CBspheres.dae and
+#                       lists the stubs of parts 6-9
 #   reference_stages    with the reference's stages put back, every kit test
 #                       passes (this changes the kit: it comes last)
 #
 #   test_starter_kit.sh [--step STEP] SOURCE_DIR WORK_DIR COURSE_SCENES
-# Without --step, every step in this order. The timeouts it gives are
+# Without --step, every step in this order but generate_3_2 and run_sh_3_2
+# (the 3-2 kit's, in a WORK_DIR of its own: generate_3_2, readme_checks,
+# run_sh_3_2). The timeouts it gives are
 # multiplied by PT_TEST_TIMEOUT_SCALE (tests/timeout_scale/timeout_scale.sh).
 set -euo pipefail
-steps=(generate no_solution_code students_documents build renders run_sh part_tests reference_stages)
+steps=(generate no_solution_code students_documents build renders run_sh readme_checks reference_stages)
 if [ "${1:-}" = --step ]; then
   steps=("$2")
   shift 2
@@ -40,6 +49,15 @@ step_generate() {
   mkdir -p "$work"
   "$src/instructors/starter_kit/make_starter_kit.py" "$kit" || fail "the kit generator failed"
   echo "PASS: kit generated in $kit"
+}
+
+# The kit for Project 3-2: parts 1-5 given solved.
+step_generate_3_2() {
+  rm -rf "$work"
+  mkdir -p "$work"
+  "$src/instructors/starter_kit/make_starter_kit.py" --solved-parts 1-5 "$kit" || fail "the kit generator failed"
+  grep -qx 5 "$kit/solved_parts.txt" || fail "the kit's solved_parts.txt does not list part 5"
+  echo "PASS: the 3-2 kit generated in $kit"
 }
 
 # No solution code: no markers or stub comments left in any C++ file, no
@@ -184,25 +202,104 @@ step_run_sh() {
   echo "PASS: the kit's scripts/run.sh renders, lists what is missing, grades (part 1 alone with --part 1)"
 }
 
-# Its part tests fail, and the failures name the function to write.
-step_part_tests() {
-  need_build
-  local part limit
+# Each part README's check command, as the README writes it, run from the
+# kit's root: it builds what the part's tests need (on a fresh kit, only
+# that: no viewer, no grader), runs tests (never "No tests were found"),
+# passes for a part the kit gives solved, and for a stubbed part fails,
+# naming a function to write, with no crash or hang. A stubbed part's tests
+# are stopped at their first failure (--stop-on-failure after the README's
+# command: scripts/check.sh passes it to ctest), which is enough to see the
+# message and keeps this check short (stubbed parts brute-force everything
+# and run slowly). Skipped (77) where packages are missing, as check.sh
+# would stop to ask for them.
+step_readme_checks() {
+  need_kit
+  if ! "$kit/scripts/setup.sh" --build-only >"$work/setup.log" 2>&1; then
+    cat "$work/setup.log"
+    echo "SKIPPED: packages are missing (scripts/setup.sh --build-only), so the kit's scripts/check.sh cannot run"
+    exit 77
+  fi
+  local fresh=0 part cmd log limit status ran
+  [ -e "$kit/build/bin/pathtracer" ] || fresh=1
   limit=$(scaled_seconds 300)
-  for part in 1 2 3 4 5; do
-    # The first failure is enough to see the message; stopping there keeps
-    # this check short (stubbed parts brute-force everything and run slowly).
-    if ctest --test-dir "$kit/build" -L "part$part" --output-on-failure --stop-on-failure --timeout "$limit" \
-         >"$work/part$part.log" 2>&1; then
-      fail "the kit's part $part tests pass with stubs"
+  # The check command of every part's README (its "How to check your work").
+  python3 - "$kit" >"$work/readme_checks.txt" <<'PY' || fail "a part README gives no check command"
+import glob, os, re, sys
+kit = sys.argv[1]
+for readme in sorted(glob.glob(os.path.join(kit, "stages", "part*_*", "README.md"))):
+    part = re.search(r"part(\d+)_", readme).group(1)
+    text = open(readme, encoding="utf-8").read()
+    section = text.split("## How to check your work", 1)[-1].split("\n## ", 1)[0]
+    m = re.search(r"`(scripts/check\.sh[^`]*)`", section)
+    if not m:
+        sys.exit(f"{os.path.relpath(readme, kit)}: no scripts/check.sh command under 'How to check your work'")
+    print(part, m.group(1))
+PY
+  [ "$(wc -l <"$work/readme_checks.txt")" -eq 9 ] || fail "expected the check commands of 9 part READMEs: $(cat "$work/readme_checks.txt")"
+  if [ "$fresh" = 1 ]; then
+    # Before anything is built, ctest alone must not pass a part: the
+    # placeholder of an unbuilt test executable fails, saying so.
+    cmake -S "$kit" -B "$kit/build" -DCMAKE_BUILD_TYPE=Release -DPT_COURSE_SCENES="$course" >/dev/null \
+      || fail "the kit does not configure"
+    ctest --test-dir "$kit/build" -L part6 >"$work/unbuilt.log" 2>&1 \
+      && { cat "$work/unbuilt.log"; fail "ctest -L part6 passed on a kit whose tests were never built"; }
+    grep -q "test_part6: NOT BUILT (run scripts/check.sh 6)" "$work/unbuilt.log" \
+      || { cat "$work/unbuilt.log"; fail "ctest -L part6 on an unbuilt kit does not say that the tests are not built"; }
+  fi
+  while read -r part cmd; do
+    log=$work/check$part.log
+    status=0
+    if grep -qx "$part" "$kit/solved_parts.txt"; then
+      (cd "$kit" && $cmd) >"$log" 2>&1 || status=$?
+      [ "$status" -eq 0 ] || { tail -30 "$log"; fail "part $part is given solved, but its README's '$cmd' exited $status"; }
+    else
+      (cd "$kit" && $cmd --stop-on-failure --timeout "$limit") >"$log" 2>&1 || status=$?
+      [ "$status" -ne 0 ] || { tail -30 "$log"; fail "part $part's README's '$cmd' passed with the stubs"; }
+      grep -q "TODO: implement Part" "$log" || { tail -30 "$log"; fail "part $part's failures do not say what to implement"; }
+      grep -qE "SEGFAULT|Child aborted|Subprocess aborted|Exception: |Timeout" "$log" \
+        && { tail -30 "$log"; fail "part $part's tests crashed or hung with the stubs"; }
     fi
-    # A part's tests name the first missing function on their path (for part 3
-    # that is a part 1 function until part 1 is done), and nothing crashes.
-    grep -q "TODO: implement Part" "$work/part$part.log" || fail "part $part failures do not say what to implement"
-    grep -qE "SEGFAULT|Child aborted|Subprocess aborted|Exception: |Timeout" "$work/part$part.log" \
-      && fail "part $part tests crashed or hung with the stubs"
+    grep -q "No tests were found" "$log" && fail "part $part's README's '$cmd' found no tests"
+    ran=$(sed -n 's/.* tests failed out of \([0-9]*\)$/\1/p' "$log" | tail -1)
+    [ "${ran:-0}" -ge 1 ] || { tail -30 "$log"; fail "part $part's README's '$cmd' ran no test"; }
+    echo "part $part: '$cmd' ran tests (ctest: $(grep -E 'tests passed' "$log" | tail -1)), exit status $status"
+  done <"$work/readme_checks.txt"
+  if [ "$fresh" = 1 ]; then
+    for t in viewer grader test_common test_debugger; do
+      [ -e "$kit/build/bin/$t" ] && fail "the part checks built $t, which no part's tests need"
+    done
+  fi
+  echo "PASS: every part README's check command builds and runs its part's tests"
+}
+
+# The kit for Project 3-2 (parts 1-5 given solved) starts on 3-2: its
+# scripts/run.sh renders the course's mirror and glass scene and lists the
+# functions of parts 6 to 9 still to write (with --part 6 it grades part
+# 6's cases alone). Skipped (77) where packages are missing.
+step_run_sh_3_2() {
+  need_kit
+  grep -qx 5 "$kit/solved_parts.txt" || fail "this kit does not give part 5 solved: not the kit for Project 3-2"
+  if ! "$kit/scripts/setup.sh" --build-only >"$work/setup.log" 2>&1; then
+    cat "$work/setup.log"
+    echo "SKIPPED: packages are missing (scripts/setup.sh --build-only), so the kit's scripts/run.sh cannot run"
+    exit 77
+  fi
+  rm -rf "$kit/out"
+  local status=0 part
+  (cd "$kit" && scripts/run.sh --part 6) >"$work/run_sh.log" 2>&1 || status=$?
+  [ "$status" -eq 1 ] || { tail -20 "$work/run_sh.log"; fail "the 3-2 kit's scripts/run.sh --part 6 exited $status, expected 1"; }
+  grep -qF "Rendered with your build: out/CBspheres.png" "$work/run_sh.log" \
+    || { tail -20 "$work/run_sh.log"; fail "the 3-2 kit's scripts/run.sh did not render scenes/CBspheres.dae"; }
+  for part in 6 7 8 9; do
+    grep -q "^Not implemented yet: Part $part: " "$work/run_sh.log" \
+      || { cat "$work/run_sh.log"; fail "the 3-2 kit's scripts/run.sh does not list part $part's stubs"; }
   done
-  echo "PASS: each part's tests fail with the stubs, naming what to implement; nothing crashes"
+  grep -q "^Not implemented yet: Part [1-5]: " "$work/run_sh.log" && fail "the 3-2 kit lists a stub of a solved part"
+  grep -qE "^ +6 +p6_.*Part 6 not implemented" "$work/run_sh.log" && ! grep -qE "^ +[1-57-9] +p[1-57-9]_" "$work/run_sh.log" \
+    || { tail -20 "$work/run_sh.log"; fail "scripts/run.sh --part 6 did not grade part 6's cases alone, as not implemented"; }
+  [ -s "$kit/out/CBspheres.png" ] && [ ! -e "$kit/out/todo_probe.png" ] \
+    || fail "the 3-2 kit's scripts/run.sh wrote no out/CBspheres.png, or left its probe's image"
+  echo "PASS: the 3-2 kit's scripts/run.sh renders CBspheres.dae and lists the stubs of parts 6 to 9"
 }
 
 # With the reference's stages the kit is the reference: everything passes.
@@ -228,7 +325,8 @@ step_reference_stages() {
 
 for step in "${steps[@]}"; do
   case "$step" in
-    generate | no_solution_code | students_documents | build | renders | run_sh | part_tests | reference_stages)
+    generate | generate_3_2 | no_solution_code | students_documents | build | renders | run_sh | readme_checks \
+      | run_sh_3_2 | reference_stages)
       "step_$step" ;;
     *) echo "test_starter_kit.sh: no step '$step'" >&2; exit 2 ;;
   esac

@@ -20,9 +20,9 @@ scripts/build.sh "${label}_tests"
 
 # ctest -L takes a regular expression: anchored, so that it selects this
 # label alone. A selection that holds no test is an error, never a pass.
-count=$(ctest --test-dir build -N -L "^${label}\$" | sed -n 's/^Total Tests: *//p')
+count=$(ctest --test-dir build -N -L "^${label}\$" "$@" | sed -n 's/^Total Tests: *//p')
 if [ "${count:-0}" -eq 0 ]; then
-  echo "check: FAILED: no test of part $part was found in build/, so nothing was checked" >&2
+  echo "check: FAILED: no test of part $part was found in build/${*:+ with $*}, so nothing was checked" >&2
   exit 1
 fi
 echo "check: running part $part's $count tests ..."

@@ -224,6 +224,15 @@ TEST_CASE("Russian roulette on and off agree in mean at -m 5 on CBspheres_lamber
     on_mean.push_back(image_mean(a.image));
     off_mean.push_back(image_mean(b.image));
   }
+  double on_total = 0, off_total = 0;
+  for (int s = 0; s < seeds; ++s) on_total += on_mean[size_t(s)], off_total += off_mean[size_t(s)];
+  INFO("with Russian roulette the image is " << on_total / off_total << " times as bright as without. "
+       << (on_total < off_total
+               ? "Hint: darker with roulette? A path that survives must divide what it brings back by the "
+                 "probability of continuing (kContinueProbability, 0.7); the first bounce from a camera ray "
+                 "always continues."
+               : "Hint: brighter with roulette? Divide by the probability of continuing once per bounce that "
+                 "played roulette, not at bounces that always continue."));
   check_blocks(on, off, "roulette on against off");
   check_welch(on_mean, off_mean, "roulette on against off, image mean");
 }

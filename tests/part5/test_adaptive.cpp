@@ -58,6 +58,9 @@ TEST_CASE("adaptive pixel: a constant stream stops at the first batch, a noisy o
   o.batch = 16;
   o.tolerance = 0.05;
   const Color c = raytrace_pixel_adaptive(cam, 1, 2, 1024, 7, constant, o, &taken);
+  INFO("Hint: the stopping rule is checked after each full batch of opts.batch samples (n % batch == 0), as in "
+       "the course, and never after the last sample: a constant stream stops after its first batch (16 here), a "
+       "noisy one takes every sample (1024).");
   CHECK(taken == 16);
   CHECK(c.x == Approx(0.3f));
 

@@ -90,8 +90,11 @@ class OrderTest(unittest.TestCase):
 
 
 FAKE = """#!{python}
-import json, struct, sys
+import json, struct, sys, time
 args = sys.argv[1:]
+if "-m" in args and args[args.index("-m") + 1] == "9":  # reaches a stub early, then renders on and on
+    print("TODO: implement Part 2: BVH construction (bvh_build.cpp); one leaf", flush=True)
+    time.sleep(120)
 if "-H" in args:
     print("pathtracer: error: no such thing", file=sys.stderr)
     sys.exit(1)
@@ -169,6 +172,30 @@ class RunTest(unittest.TestCase):
         self.assertIn("cannot make the preview from the render's --pfm output", nopfm.error)
         self.assertNotIn("preview", lit.checks)
         self.assertEqual(sorted(os.listdir(c.dir)), sorted(["failed", lit.key, dark.key, small.key]))
+
+
+class StopAtTodoTest(unittest.TestCase):
+    def test_quick_stops_a_render_at_its_first_todo_line(self):
+        """--quick (stop_at_todo): a render that prints a TODO line is not
+        made, whether it is still running (stopped at once, not after its
+        two minutes) or has ended; the others are made as usual."""
+        tmp = tempfile.mkdtemp(prefix="writeup-scheduler-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        binary = os.path.join(tmp, "pathtracer")
+        with open(binary, "w") as f:
+            f.write(FAKE.format(python=sys.executable))
+        os.chmod(binary, 0o755)
+        c = Cache(os.path.join(tmp, "cache"))
+        os.makedirs(c.dir)
+        jobs = [job("slow", 3, args="-m 9"), job("dark", 2, args="-o 0"), job("lit", 1)]
+        scheduler.Scheduler(jobs, binary, binary, c, 2, 0, {}, Progress(), stop_at_todo=True).run()
+        st = {j.proto.name: j for j in jobs}
+        for name, line in (("slow", "TODO: implement Part 2: BVH construction (bvh_build.cpp); one leaf"),
+                           ("dark", "TODO: implement Part 4 (x.cpp)")):
+            self.assertEqual(st[name].status, "failed", name)
+            self.assertEqual(st[name].error, f"stopped at its first TODO line, '{line}': --quick does not finish a "
+                                             f"render that reaches code not written yet")
+        self.assertEqual((st["lit"].status, st["lit"].checks["todo"]), ("ok", []))
 
 
 if __name__ == "__main__":

@@ -167,7 +167,8 @@ def main(argv=None):
     progress = Progress(pending, a.threads, not a.no_progress)
     progress.plan(len(jobs) - len(pending), len(recipes.renders) - len(jobs), pending)
     t0 = time.monotonic()
-    sched = Scheduler(pending, run_binary, binary, cache, a.threads, a.timeout, history, progress)
+    sched = Scheduler(pending, run_binary, binary, cache, a.threads, a.timeout, history, progress,
+                      stop_at_todo=recipes.quick)
     try:
         sched.run()
     except KeyboardInterrupt:

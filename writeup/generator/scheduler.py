@@ -39,6 +39,7 @@ class Job:
         self.cpu = None
         self.checks = None      # checks.make_checks() of a finished render
         self.preview = None     # --quick: what preview.make_preview() found
+        self.log_seen = 0       # bytes of log.txt already looked at for a TODO line
 
 
 def make_jobs(renders, key_of):
@@ -133,8 +134,12 @@ def last_line(path):
 
 
 class Scheduler:
-    def __init__(self, jobs, binary, display_binary, cache, budget, timeout, history, progress):
+    def __init__(self, jobs, binary, display_binary, cache, budget, timeout, history, progress, stop_at_todo=False):
         self.jobs = jobs
+        # --quick: a render that reaches code not written yet (its first TODO
+        # line) is stopped at once: its image could not show the figure, and
+        # through stand-ins (a one-leaf BVH) it would be slow.
+        self.stop_at_todo = stop_at_todo
         self.binary = binary                  # the private copy renders run with
         self.display_binary = display_binary  # the binary as given, for the commands shown
         self.cache = cache
@@ -234,11 +239,40 @@ class Scheduler:
                 os.remove(pfm)
         return None
 
+    def first_todo_line(self, job, ended):
+        """The first TODO line the render has printed, or None (its log read on
+        from where the last look stopped; once it has ended, to the end)."""
+        try:
+            with open(os.path.join(job.tmp, "log.txt"), "rb") as f:
+                f.seek(job.log_seen)
+                text = f.read()
+        except OSError:
+            return None
+        # Only whole lines while it runs: a line being written is read next time.
+        end = len(text) if ended else text.rfind(b"\n") + 1
+        job.log_seen += end
+        for line in text[:end].decode("utf-8", "replace").splitlines():
+            m = checks.TODO_LINE.search(line)
+            if m:
+                return line[m.start():].strip()
+        return None
+
     def reap(self):
-        """Finishes the renders that have ended or run out of time."""
+        """Finishes the renders that have ended or run out of time (and, with
+        stop_at_todo, those that printed a TODO line)."""
         for job in list(self.running):
             rc = self.poll(job)
-            if rc is None and self.timeout and time.monotonic() - job.started > self.timeout:
+            # Whether it is stopped or has just ended, a render that printed a
+            # TODO line comes out the same way: not made.
+            todo = self.first_todo_line(job, rc is not None) if self.stop_at_todo else None
+            if todo is not None:
+                if rc is None:
+                    kill(job.proc)
+                    job.proc.wait()
+                self.running.remove(job)
+                self.finish(job, None, f"stopped at its first TODO line, '{todo}': --quick does not finish a render "
+                                       f"that reaches code not written yet")
+            elif rc is None and self.timeout and time.monotonic() - job.started > self.timeout:
                 kill(job.proc)
                 job.proc.wait()
                 self.running.remove(job)

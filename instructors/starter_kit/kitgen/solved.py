@@ -78,17 +78,19 @@ GIVEN_FOR = {
 }
 
 
-def notes(solved, stubbed):
+def notes(solved, stubbed, check=None):
     """{kit document: the note it gets} for a kit with `solved` parts; the
     key "stage" is the note of a solved part's README, "stage N" that of
-    stubbed part N's."""
+    stubbed part N's. check: the kit's part check command (scripts/check.sh),
+    None when it has none."""
     given, yours = describe(solved), describe(stubbed)
     say = {
         "README.md":
             f"> **This kit gives {given} solved.** Their code in `stages/` is complete (the\n"
             f"> reference solution), so their tests and grading cases pass and {yours},\n"
             f"> yours to write, build on a renderer that works. The TODO lines, failing\n"
-            f"> tests and failing cases this README speaks of are those of {yours}.\n",
+            f"> tests and failing cases this README speaks of are those of {yours}"
+            + (f"; your\n> first part's check is `{check} {min(stubbed)}`.\n" if check else ".\n"),
         "stages/README.md":
             f"> **In this kit {given} {'is' if len(solved) == 1 else 'are'} given solved:** "
             f"{'its folder holds' if len(solved) == 1 else 'their folders hold'}\n"

@@ -17,6 +17,8 @@ REFERENCE_ONLY_DOC = "<!-- REFERENCE ONLY"
 # instructors' folder; CI runs on the reference tree only.
 LEFT_OUT = (".ci/", "instructors/")
 OVERLAY_DIR = "instructors/starter_kit/overlay"
+# The part check a note may point to (scripts/check.sh N), when the kit has it.
+CHECK_COMMAND = "scripts/check.sh"
 # Overlay file (in OVERLAY_DIR) -> the kit file it becomes.
 OVERLAY = {
     "README.md": "README.md",
@@ -117,7 +119,7 @@ def make_kit(root, solved=frozenset()):
                 kit[target], origin[target] = f.readlines(), src
 
     if solved:
-        say = notes(solved, stubbed_parts)
+        say = notes(solved, stubbed_parts, CHECK_COMMAND if CHECK_COMMAND in kit else None)
         for rel in sorted(kit):
             if rel in ("README.md", "stages/README.md"):
                 kit[rel] = add_note(kit[rel], say[rel])

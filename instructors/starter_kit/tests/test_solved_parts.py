@@ -70,15 +70,19 @@ def check_solved_part_keeps_its_solution_stubbed_part_loses_it(tmp):
     markers, stubs or TODO lines, and its reference-only header; part 2 is
     stubbed as usual, and a test's region is stubbed in every kit; the
     kit's README, stages/README.md and part 1's README say that part 1 is
-    given solved and part 2 is the students'."""
+    given solved and part 2 is the students' (the README points to part 2's
+    check), part 2's README says what part 1 gives; solved_parts.txt lists
+    1."""
     run = generate(two_part_tree(), tmp)
     expect_success(run, "the kit without --solved-parts")
     expect(PART1_SOLUTION not in read(run, "stages/part1_demo/work.cpp"), "without the option part 1 is solved")
     expect("solved" not in read(run, "README.md"), "without the option the README speaks of solved parts")
 
-    run = generate(two_part_tree(), tmp, options=("--solved-parts", "1"))
+    run = generate(two_part_tree({"scripts/check.sh": "#!/bin/sh\n"}), tmp, options=("--solved-parts", "1"))
     expect_success(run, "--solved-parts 1")
     expect("(part 1 given solved)" in run.out, f"the summary does not name the solved part: {run.out}")
+    expect("first part's check is `scripts/check.sh 2`" in read(run, "README.md"),
+           f"the kit's README does not point to the first stubbed part's check:\n{read(run, 'README.md')}")
     work = read(run, "stages/part1_demo/work.cpp")
     expect(PART1_SOLUTION in work and '#include "fast_path.h"' in work, f"part 1's solution is not in the kit:\n{work}")
     expect(not re.search(r"SOLUTION|STUB:|PT_TODO", work), f"part 1 keeps markers, stubs or a TODO line:\n{work}")

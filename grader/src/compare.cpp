@@ -26,7 +26,13 @@ void print_case_commands(const std::vector<Case>& cases, const std::string& path
     std::string cmd = pathtracer + " --part " + std::to_string(c.part);
     for (size_t i = 0; i < c.options.size(); ++i) {
       const bool names_file = i > 0 && (c.options[i - 1] == "-e" || c.options[i - 1] == "-c");
-      cmd += " " + (names_file ? (fs::path(scenes) / c.options[i]).string() : c.options[i]);
+      // Found beside the case list first, as the grader does (case_input_files).
+      std::error_code ec;
+      const bool beside_list = names_file && !c.files_dir.empty() && fs::path(c.options[i]).is_relative() &&
+                               fs::exists(fs::path(c.files_dir) / c.options[i], ec);
+      cmd += " " + (beside_list ? fs::relative(fs::path(c.files_dir) / c.options[i], fs::current_path(ec), ec).string()
+                    : names_file ? (fs::path(scenes) / c.options[i]).string()
+                                 : c.options[i]);
     }
     cmd += " --seed 1 -f " + c.name + ".png --pfm " + c.name + ".pfm " + (fs::path(scenes) / c.scene).string();
     std::printf("%-22s %s\n", c.name.c_str(), cmd.c_str());

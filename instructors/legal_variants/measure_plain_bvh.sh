@@ -13,6 +13,10 @@
 # figures beside the reference's (reference_images/<case>/meta.json).
 #
 #   instructors/legal_variants/measure_plain_bvh.sh [--seeds 1,2,3] [--no-compare] [--out FILE] [--build-root DIR] [-j N]
+#                                                 [--hidden]
+#
+# --hidden measures the hidden cases instead (instructors/hidden_cases/:
+# their list, their references, and --out their plain_bvh_costs.json).
 #
 # About 4 min on 2 busy cores (seven builds, about a minute; the 35 cases
 # at three seeds each); without the comparison builds about 2 min. Exit
@@ -32,6 +36,7 @@ mode=grade
 plant_name="" plant_dir=""
 seeds=1,2,3
 out="$root/reference_images/plain_bvh_costs.json"
+cases_args=()
 compare=(bvh_leaf_1 bvh_leaf_8 bvh_pointer_tree shadow_closest_hit cos_after_shadow_ray)
 . instructors/patch_catalogue.sh
 while [ $# -gt 0 ]; do
@@ -41,8 +46,11 @@ while [ $# -gt 0 ]; do
     --out) [ $# -ge 2 ] || { echo "$tool: --out FILE" >&2; exit 2; }
            out=$(realpath -m "$2"); shift 2 ;;
     --no-compare) compare=(); shift ;;
+    --hidden) cases_args=(--cases "$root/instructors/hidden_cases/cases.txt"
+                          --references "$root/instructors/hidden_cases/references")
+              out="$root/instructors/hidden_cases/references/plain_bvh_costs.json"; shift ;;
     --build-root|-j) catalogue_option "$@" || exit 2; shift "$catalogue_shift" ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
     *) echo "$tool: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -57,4 +65,4 @@ for name in "${names[@]}"; do
 done
 python3 instructors/legal_variants/query_costs.py "${args[@]}" --baseline bvh_midpoint,bvh_median \
   --out "$out" --seeds "$seeds" -j "$jobs" --work "$build_root/renders" --commit "$commit" \
-  --grader "$grader"
+  --grader "$grader" "${cases_args[@]}"

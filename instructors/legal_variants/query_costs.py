@@ -31,18 +31,19 @@ ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
 FIGURES = ["closest_tests_per_query", "shadow_tests_per_query", "shadow_per_query", "tests_per_ray"]
 
 
-def cases_from_part(part):
-    """Names of the cases of grader/cases.txt with part >= `part`, in order."""
+def cases_from_part(part, case_list):
+    """Names of the cases of `case_list` with part >= `part`, in order."""
     names = []
-    for line in open(os.path.join(ROOT, "grader", "cases.txt")):
+    for line in open(case_list):
         words = line.split()
         if words and not words[0].startswith("#") and int(words[1]) >= part:
             names.append(words[0])
     return names
 
 
-def case_commands(grader):
-    out = subprocess.run([grader, "compare", "--list"], cwd=ROOT, check=True, capture_output=True, text=True).stdout
+def case_commands(grader, case_list):
+    out = subprocess.run([grader, "compare", "--list", "--cases", case_list], cwd=ROOT, check=True,
+                         capture_output=True, text=True).stdout
     cmds = {}
     for line in out.splitlines():
         words = line.split()
@@ -89,6 +90,10 @@ def main():
     ap.add_argument("--baseline", default="", help="builds (comma-separated) whose larger figure --out records")
     ap.add_argument("--out", help="the JSON file of the baseline's figures")
     ap.add_argument("--seeds", default="1,2,3")
+    ap.add_argument("--cases", default=os.path.join(ROOT, "grader", "cases.txt"),
+                    help="the case list (instructors/hidden_cases/cases.txt for the hidden cases)")
+    ap.add_argument("--references", default=os.path.join(ROOT, "reference_images"),
+                    help="the cases' references (for the comparison tables)")
     ap.add_argument("-j", type=int, default=2)
     ap.add_argument("--grader", default=os.path.join(ROOT, "build", "bin", "grader"))
     ap.add_argument("--work", default=os.path.join(ROOT, "build", "plain_bvh", "renders"))
@@ -111,8 +116,9 @@ def main():
         seeds = [int(s) for s in a.seeds.split(",")]
     except ValueError:
         ap.error(f"--seeds {a.seeds}: want integers separated by commas")
-    cmds = case_commands(a.grader)
-    cases = cases_from_part(2)
+    case_list = os.path.abspath(a.cases)
+    cmds = case_commands(a.grader, case_list)
+    cases = cases_from_part(2, case_list)
     started = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
 
     # per[name][case] = {figure: median over seeds}
@@ -131,7 +137,7 @@ def main():
             print(f"{name:24s} {case:22s} " + ", ".join(f"{k} {per[name][case][k]:.3f}" for k in FIGURES),
                   file=sys.stderr, flush=True)
 
-    ref = {c: json.load(open(os.path.join(ROOT, "reference_images", c, "meta.json"))) for c in cases}
+    ref = {c: json.load(open(os.path.join(a.references, c, "meta.json"))) for c in cases}
     for k in FIGURES:
         print(f"\n{k} (median over seeds {a.seeds}; x = ratio to the reference's)\n")
         print("| case | reference | " + " | ".join(names) + " |")

@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "grader/src/case_list.h"
@@ -24,6 +26,7 @@
 
 using namespace grader;
 using pt::test::JsonValue;
+namespace fs = std::filesystem;
 using pt::test::StrictJson;
 
 namespace {
@@ -368,6 +371,94 @@ TEST_CASE("Gradescope's results.json is strict JSON, also with no case and with 
   CHECK(t.at("status").string == "failed");
   CHECK_THAT(t.at("output").string, Catch::Contains("bad\x1b[0m output") && Catch::Contains("line\r\nnext"));
   CHECK(t.at("extra_data").at("relmse").type == JsonValue::Type::Null);
+}
+
+TEST_CASE("Every hidden case has its reference, and from part 2 on a plain BVH's costs", "[grader]") {
+  const std::string dir = std::string(PT_PROJECT_SCENES) + "/../instructors/hidden_cases";
+  if (!fs::exists(dir + "/cases.txt")) {
+    WARN("no " << dir << "/cases.txt (a starter kit has no hidden cases): nothing to check");
+    return;
+  }
+  const std::vector<Case> cases = read_cases(dir + "/cases.txt");
+  const std::map<std::string, QueryCosts> plain = read_plain_bvh_costs(dir + "/references/plain_bvh_costs.json");
+  REQUIRE(cases.size() >= 9);
+  std::set<int> parts;
+  for (const Case& c : cases) {
+    INFO("hidden case " << c.name);
+    parts.insert(c.part);
+    Reference ref;
+    std::string why;
+    CHECK(load_reference(dir + "/references", c, &ref, &why));
+    CHECK(why.empty());
+    if (c.part >= 2) {
+      const auto it = plain.find(c.name);
+      REQUIRE(it != plain.end());
+      CHECK(it->second.closest_tests > 0);
+    }
+  }
+  CHECK(parts.size() == 9);  // every part has hidden cases
+}
+
+TEST_CASE("results.json shows hidden cases as a per-part total with verdicts, never their names or settings",
+          "[grader]") {
+  RunInfo info;
+  std::vector<CaseResult> rs(4);
+  rs[0].c.name = "p3_public";
+  rs[0].c.part = 3;
+  rs[0].verdict = Verdict::Passed;
+  rs[0].score = rs[0].max_score = 2;
+  const auto hidden = [](CaseResult& r, const std::string& name, double score) {
+    r.c.name = name;
+    r.c.part = 3;
+    r.c.hidden = true;
+    r.c.scene = "CBsecret_scene.dae";
+    r.c.options = {"-c", "cb_secret_view.cam", "-s", "8", "-l", "4", "-r", "128", "96"};
+    r.command = "--part 3 -c cb_secret_view.cam -s 8 -l 4 -r 128 96 CBsecret_scene.dae";
+    r.max_score = 2;
+    r.score = score;
+    r.verdict = score == 2 ? Verdict::Passed : Verdict::Failed;
+  };
+  hidden(rs[1], "h3_secret_one", 2);
+  hidden(rs[2], "h3_secret_two", 0);
+  rs[2].message = "too dark: image mean x0.50 of the reference's, light sampling (-l 4) on CBsecret_scene.dae";
+  rs[2].metric = "relMSE 0.3";
+  rs[2].log = "rendering CBsecret_scene.dae";
+  hidden(rs[3], "h3_secret_three", 0);
+  rs[3].verdict = Verdict::Failed;
+  rs[3].message = "crashed";
+  info.hints = {"Likely cause 1 of 1: ... explains h3_secret_two"};
+  const std::string text = gradescope_json(rs, info);
+  const JsonValue v = StrictJson::parse(text);
+  CHECK(v.at("score").number == 4);
+  CHECK(v.at("stdout_visibility").string == "hidden");
+  CHECK_THAT(v.at("output").string, Catch::Contains("a hidden case of part 3") && !Catch::Contains("h3_secret"));
+  int visible_points = 0;
+  const JsonValue* total = nullptr;
+  for (const JsonValue& t : v.at("tests").array) {
+    const bool visible = t.at("visibility").string == "visible";
+    if (!visible) {
+      // The staff's tests carry everything but count no points.
+      CHECK(t.object.count("score") == 0);
+      continue;
+    }
+    // Nothing a student sees names a hidden case or its settings.
+    for (const char* secret : {"h3_secret", "CBsecret_scene", "cb_secret_view", "-l 4", "-s 8", "128"})
+      CHECK_THAT(t.at("output").string + t.at("name").string, !Catch::Contains(secret));
+    CHECK(t.at("extra_data").object.count("case") == (t.at("name").string == "Part 3: p3_public" ? 1u : 0u));
+    visible_points += int(t.at("max_score").number);
+    if (t.at("name").string == "Part 3: hidden cases (3)") total = &t;
+  }
+  CHECK(visible_points == 8);  // the public case and the hidden total, once each
+  REQUIRE(total != nullptr);
+  CHECK(total->at("score").number == 2);
+  CHECK(total->at("max_score").number == 6);
+  CHECK(total->at("status").string == "failed");
+  CHECK_THAT(total->at("output").string, Catch::Contains("Hidden case 2: 0.00/2, failed: too dark: image mean x0.50") &&
+                                             Catch::Contains("Hidden case 3: 0.00/2, failed: crashed"));
+  // The staff see each hidden case whole, and a note when the public cases
+  // of a part pass but its hidden ones mostly fail.
+  CHECK_THAT(text, Catch::Contains("Staff only: part 3 hidden case h3_secret_two"));
+  CHECK_THAT(text, Catch::Contains("Staff note"));
 }
 
 TEST_CASE("The renderer's --stats-json: strict JSON, exact counts, max_radiance over the finite channels", "[grader]") {

@@ -91,7 +91,11 @@ double median_over(const BuildSignature& build, const KnownBug& bug, const char*
 
 std::string factor(double x) {
   if (x < 0) return "an unknown factor";
-  return x >= 10 ? fmt("x%.0f", x) : x >= 0.1 ? fmt("x%.2g", x) : fmt("x%.1g", x);
+  if (x >= 10) return fmt("x%.0f", x);
+  if (x < 0.1) return fmt("x%.1g", x);
+  // Near 1, enough digits to show which way it moved (x0.9997, not x1).
+  const std::string two = fmt("x%.2g", x);
+  return two == "x1" && x != 1 ? fmt("x%.4g", x) : two;
 }
 
 // Swaps every `a` in `s` with `b` and every `b` with `a`.
@@ -317,12 +321,13 @@ namespace {
 // kHintDistance, and beyond the nearest only bugs nearly as near (a second
 // guess far behind a close first one is noise, not help), one per function.
 std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& build, int max_hints) {
-  std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
+  std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.rank < b.rank; });
   std::vector<Hint> out;
   std::set<std::string> functions;
   for (Hint& h : all) {
-    if (int(out.size()) >= max_hints || h.distance > kHintDistance) break;
-    if (!out.empty() && h.distance > out[0].distance + kHintSpread) break;
+    if (int(out.size()) >= max_hints) break;
+    // In rank order a farther bug may come before a nearer one: skip it, not stop.
+    if (h.distance > kHintDistance || (!out.empty() && h.distance > out[0].distance + kHintSpread)) continue;
     if (!functions.insert(h.bug->function).second) continue;
     h.words = fill(build, *h.bug);
     h.cases = explained_cases(build, *h.bug);
@@ -396,7 +401,11 @@ std::vector<Hint> likely_bugs_without(const BuildSignature& build, const Catalog
   std::vector<Hint> possible, later;
   for (const KnownBug& bug : catalogue.bugs) {
     if (left_out(bug) || names_solved_code(bug, catalogue, solved)) continue;
-    Hint h{&bug, signature_distance(build, bug.cases, groups), "", "", {}};
+    Hint h{&bug, signature_distance(build, bug.cases, groups), 0.0, "", "", {}};
+    // A bug of an earlier part usually fails that part's cases too: of two
+    // bugs about as near, the one of the earliest failing case's part is
+    // the likelier.
+    h.rank = h.distance - (earliest > 0 && bug.part == earliest ? kOwnPartBonus : 0.0);
     (earliest > 0 && bug.part > earliest ? later : possible).push_back(h);
   }
   std::vector<Hint> hints = select_hints(possible, build, max_hints);
@@ -433,7 +442,8 @@ std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseS
     const auto it = bug.cases.find(case_name);
     if (it == bug.cases.end() || !it->second.failed) continue;
     if (names_solved_code(bug, catalogue, solved)) continue;
-    all.push_back(Hint{&bug, case_distance(&figures, &it->second), "", "", {}});
+    const double d = case_distance(&figures, &it->second);
+    all.push_back(Hint{&bug, d, d, "", "", {}});
   }
   return select_hints(std::move(all), build, max_hints);
 }

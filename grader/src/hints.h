@@ -82,6 +82,9 @@ double signature_distance(const BuildSignature& build, const BuildSignature& bug
 struct Hint {
   const KnownBug* bug = nullptr;
   double distance = 0;
+  // The order the hints come in: the distance, less kOwnPartBonus for a bug
+  // of the earliest failing case's part (the thresholds take the distance).
+  double rank = 0;
   std::string words;  // the bug's words with the build's figures put in
   std::string text;   // the words, then the function, file and README section, then the cases
   // The build's failing cases the bug fails too: the ones the hint explains.
@@ -92,6 +95,9 @@ struct Hint {
 constexpr double kHintDistance = 0.7;
 // Further hints only within this much of the nearest one's distance.
 constexpr double kHintSpread = 0.35;
+// A bug of the earliest failing case's part ranks as if this much nearer
+// (a bug of part k most often fails part k's cases first).
+constexpr double kOwnPartBonus = 0.1;
 
 // The lowest part of the build's failing cases (0 when none fails or the
 // groups name no part). A case of part k runs stages 1..k only, so a bug

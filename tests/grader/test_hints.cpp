@@ -139,6 +139,9 @@ TEST_CASE("Hints: 'too bright' and 'too dark' agree with the build's own image r
     if (h.bug->name == "no_G")
       CHECK(h.words == "metal is too dark toward its silhouettes (image x0.99), and darker the rougher it is");
   }
+  // Barely darker: the figure shows which way (x0.9997, not x1).
+  for (const Hint& h : likely_bugs({{"p7_dragon", failing(0.9997)}, {"p7_bunny", failing(0.9997)}}, cat, groups))
+    if (h.bug->name == "no_G") CHECK(h.words == "metal is too dark toward its silhouettes (image x0.9997), and darker the rougher it is");
   // A brighter build keeps the bright words, and a dark bug's words turn.
   const BuildSignature brighter = {{"p7_dragon", failing(1.3)}, {"p7_bunny", failing(1.3)}};
   for (const Hint& h : likely_bugs(brighter, cat, groups)) {
@@ -196,4 +199,28 @@ TEST_CASE("Hints measured with whole functions left out: no function is named fr
 TEST_CASE("Hints of a graded folder: a folder that is not one is named", "[grader]") {
   CHECK_THROWS_WITH(hint_lines_for_folder("/nonexistent/graded", Catalogue{}, CaseGroups{}),
                     Catch::Contains("/nonexistent/graded: not a grader output folder"));
+}
+
+// Of two bugs about as near, the one of the earliest failing case's part
+// comes first: a bug of part 6 most often fails part 6's cases first.
+TEST_CASE("Hints: of two bugs about as near, the earliest failing part's ranks first, within the same limits", "[grader]") {
+  Catalogue cat;
+  cat.bugs = {bug("loop_far", 4, "at_least_one_bounce_radiance", "stages/part4_global_illumination/gi.cpp", "a",
+                  {{"p6_m3", failing(0.70)}, {"p6_m5", failing(0.70)}}),
+              bug("glass_near", 6, "glass_sample_f", "stages/part6_mirror_glass/specular.cpp", "b",
+                  {{"p6_m3", failing(0.66)}, {"p6_m5", failing(0.66)}})};
+  const CaseGroups groups = case_groups(kCases);
+  const BuildSignature build = {{"p6_m3", failing(0.72)}, {"p6_m5", failing(0.72)}};
+  const double d_loop = signature_distance(build, cat.bugs[0].cases, groups);
+  const double d_glass = signature_distance(build, cat.bugs[1].cases, groups);
+  REQUIRE(d_loop < d_glass);
+  REQUIRE(d_glass < d_loop + kOwnPartBonus);
+  const std::vector<Hint> hints = likely_bugs(build, cat, groups);
+  REQUIRE(hints.size() == 2);
+  CHECK(hints[0].bug->name == "glass_near");
+  CHECK(hints[0].distance == Approx(d_glass));  // the distance shown is the bug's own
+  // Far behind (beyond the bonus), the nearer bug stays first.
+  cat.bugs[1].cases = {{"p6_m3", failing(0.3)}, {"p6_m5", failing(0.3)}};
+  REQUIRE(signature_distance(build, cat.bugs[1].cases, groups) > d_loop + kOwnPartBonus);
+  CHECK(likely_bugs(build, cat, groups).front().bug->name == "loop_far");
 }

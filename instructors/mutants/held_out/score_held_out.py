@@ -4,7 +4,7 @@ folders grade_held_out.sh graded (BUILD_ROOT/<name>.grade): for each bug the
 grader caught, the "Likely cause" lines `grader hints --graded` gives its
 folder (as report.txt would), and whether the first names the bug's
 function, whether one of the first three does, and the same for its part.
-Rates for Project 3-1 (parts 1-5) and 3-2 (parts 6-9) apart.
+Rates for Project 3-1 and 3-2 apart (held_out.txt's headings).
 
     score_held_out.py BUILD_ROOT [--grader BIN] [--catalogue FILE] [--table FILE]
 
@@ -25,15 +25,24 @@ HINT = re.compile(r"^Likely cause \d+ of \d+: .*\((\S+) in (stages/part(\d)_\S*)
 
 
 def read_list(path):
+    """The bugs, each with its project: that of the "# Project 3-x" heading
+    above it (a bug of part 4's loop that only mirrors and glass show is
+    Project 3-2's), else its part's."""
     bugs = []
+    heading = None
     for number, line in enumerate(open(path), 1):
         line = line.strip()
+        m = re.match(r"#\s*Project (3-[12])\b", line)
+        if m:
+            heading = m.group(1)
         if not line or line.startswith("#"):
             continue
         fields = line.split(None, 3)
         if len(fields) < 4 or not fields[1].isdigit():
             sys.exit(f"{path}:{number}: expected 'name part function description'")
-        bugs.append({"name": fields[0], "part": int(fields[1]), "function": fields[2]})
+        part = int(fields[1])
+        bugs.append({"name": fields[0], "part": part, "function": fields[2],
+                     "project": heading or ("3-1" if part <= 5 else "3-2")})
     return bugs
 
 
@@ -71,7 +80,7 @@ def main():
     rows, totals = [], {}
     for bug in read_list(os.path.join(HERE, "held_out.txt")):
         d = os.path.join(a.build_root, bug["name"] + ".grade")
-        project = "3-1" if bug["part"] <= 5 else "3-2"
+        project = bug["project"]
         if not os.path.isdir(os.path.join(d, "cases")):
             rows.append(f"| {bug['name']} | {bug['part']} | {bug['function']} | not graded | | | |")
             continue

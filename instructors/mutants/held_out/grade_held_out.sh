@@ -38,6 +38,13 @@ while [ $# -gt 0 ]; do
     *) catalogue_option "$@" || exit 2; shift "$catalogue_shift" ;;
   esac
 done
+# A held-out bug in the catalogue's list would be measured on itself.
+while read -r name _; do
+  if grep -qE "^$name[[:space:]]" instructors/mutants/mutants.txt; then
+    echo "$tool: $name is a mutant of instructors/mutants/mutants.txt too: a held-out bug must stay out of the catalogue" >&2
+    exit 2
+  fi
+done < <(catalogue_lines)
 catalogue_start
 
 if [ "$score_only" = 0 ]; then

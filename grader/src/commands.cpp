@@ -240,27 +240,6 @@ std::vector<std::string> run_hints(const Common& common, const std::vector<CaseR
   }
 }
 
-int command_hints(const Common& common, const std::string& table) {
-  const Catalogue cat = read_catalogue(common.catalogue);
-  double function_rate = 0, part_rate = 0;
-  const std::string rows = leave_one_out_table(cat, case_groups(read_cases(common.cases)), &function_rate, &part_rate);
-  std::string s = "<!-- REFERENCE ONLY: measured on the mutants; the starter kit leaves this table out -->\n"
-                  "# Hints: does the grader name the right bug?\n\n"
-                  "Each known bug of the catalogue (`grader/known_bugs.json`: the mutants of "
-                  "`instructors/mutants/`, graded at commit " + cat.commit + ") is left out of it in turn, and its own "
-                  "signature is matched against the rest, as a student's build would be: up to three hints, one per "
-                  "function, nearest first, none farther than " + fmt("%.2f", kHintDistance) +
-                  ". Goals: the right function among the three for at least 80 % of the bugs, the right part for at "
-                  "least 95 %.\n\nMade by `grader hints --leave-one-out` at commit " + git_commit() + " on " +
-                  utc_now() + ".\n\n" + rows;
-  if (!table.empty()) {
-    fs::create_directories(fs::path(table).parent_path());
-    write_text(table, s);
-  }
-  std::printf("%s", s.c_str());
-  return function_rate >= 0.8 && part_rate >= 0.95 ? kAllPassed : kSomeFailed;
-}
-
 int command_merge(const Common& common, const std::string& out, const std::vector<std::string>& shard_dirs) {
   std::vector<CaseResult> results;
   std::set<std::string> seen;

@@ -104,7 +104,9 @@ std::vector<std::string> run_hints(const Common& common, const std::vector<CaseR
 // The known bugs of --catalogue; empty (with a line on stderr when it is
 // malformed) when it cannot be read.
 Catalogue hint_catalogue(const Common& common);
-int command_hints(const Common& common, const std::string& table);
+// `grader hints`: the tables of tables/hints.md (each known bug left out,
+// each function's bugs left out), or with graded folders, their hints.
+int command_hints(const Common& common, const std::string& table, const std::vector<std::string>& graded);
 // Rewrites each graded folder's cases/<case>/result.json into
 // out/<folder name>/ with the image figures of its signature made again
 // from its kept renders; nothing else changes.

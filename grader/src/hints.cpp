@@ -1,8 +1,12 @@
 #include "grader/src/hints.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <fstream>
 #include <set>
 #include <stdexcept>
 
@@ -87,12 +91,43 @@ double median_over(const BuildSignature& build, const KnownBug& bug, const char*
 
 std::string factor(double x) {
   if (x < 0) return "an unknown factor";
-  return x >= 10 ? fmt("x%.0f", x) : x >= 0.1 ? fmt("x%.2g", x) : fmt("x%.1g", x);
+  if (x >= 10) return fmt("x%.0f", x);
+  if (x < 0.1) return fmt("x%.1g", x);
+  // Near 1, enough digits to show which way it moved (x0.9997, not x1).
+  const std::string two = fmt("x%.2g", x);
+  return two == "x1" && x != 1 ? fmt("x%.4g", x) : two;
 }
 
-// The bug's words with the build's figures put in.
+// Swaps every `a` in `s` with `b` and every `b` with `a`.
+void swap_words(std::string* s, const std::string& a, const std::string& b) {
+  std::string out;
+  for (size_t i = 0; i < s->size();) {
+    if (s->compare(i, a.size(), a) == 0) {
+      out += b, i += a.size();
+    } else if (s->compare(i, b.size(), b) == 0) {
+      out += a, i += b.size();
+    } else {
+      out += (*s)[i++];
+    }
+  }
+  *s = out;
+}
+
+// The bug's words with the build's figures put in. Words that say the
+// image is too bright (or too dark) are made to agree with the build's own
+// image ratio, the {ratio} figure: a bug's words describe the bug as the
+// catalogue saw it, and a build whose image moved the other way would read
+// "too bright (image x0.99)".
 std::string fill(const BuildSignature& build, const KnownBug& bug) {
   std::string s = bug.hint;
+  const double ratio = median_over(build, bug, "mean_ratio");
+  const size_t bright = s.find("too bright"), dark = s.find("too dark");
+  const bool says_bright = bright != std::string::npos && (dark == std::string::npos || bright < dark);
+  const bool says_dark = dark != std::string::npos && !says_bright;
+  if (ratio > 0 && ((says_bright && ratio < 1) || (says_dark && ratio > 1))) {
+    swap_words(&s, "too bright", "too dark");
+    swap_words(&s, "brighter", "darker");
+  }
   const std::pair<const char*, const char*> slots[] = {{"{ratio}", "mean_ratio"},
                                                        {"{rate}", "rate_ratio"},
                                                        {"{tests}", "closest_tests_ratio"},
@@ -103,6 +138,30 @@ std::string fill(const BuildSignature& build, const KnownBug& bug) {
     for (size_t at; (at = s.find(slot)) != std::string::npos;)
       s.replace(at, std::string(slot).size(), factor(median_over(build, bug, key)));
   return s;
+}
+
+// The build's failing cases that the bug fails too, in the case list's
+// order when the groups know it (else by name).
+std::vector<std::string> explained_cases(const BuildSignature& build, const KnownBug& bug) {
+  std::vector<std::string> out;
+  for (const auto& [name, c] : build) {
+    if (!c.failed) continue;
+    const auto b = bug.cases.find(name);
+    if (b != bug.cases.end() && b->second.failed) out.push_back(name);
+  }
+  return out;
+}
+
+// "; explains p6_m2, p6_m3 (2 of 5 failing cases)", at most six names.
+std::string cases_clause(const std::vector<std::string>& cases, const BuildSignature& build) {
+  const size_t failing =
+      size_t(std::count_if(build.begin(), build.end(), [](const auto& c) { return c.second.failed; }));
+  if (cases.empty()) return "; explains none of the failing cases";
+  std::string s = "; explains ";
+  for (size_t i = 0; i < cases.size() && i < 6; ++i) s += (i ? ", " : "") + cases[i];
+  if (cases.size() > 6) s += ", ...";
+  return s + " (" + std::to_string(cases.size()) + " of " + std::to_string(failing) + " failing case" +
+         (failing == 1 ? "" : "s") + ")";
 }
 
 std::string section_of(const std::string& readme) {
@@ -148,7 +207,31 @@ Catalogue read_catalogue(const std::string& path) {
     k.cases = cases_from_json(*cases, path + ": bug " + k.name);
     cat.bugs.push_back(std::move(k));
   }
+  cat.solved_parts = read_solved_parts(solved_parts_path(path));
   return cat;
+}
+
+std::string solved_parts_path(const std::string& catalogue_path) {
+  namespace fs = std::filesystem;
+  const fs::path grader_dir = fs::absolute(catalogue_path).parent_path();
+  return (grader_dir.parent_path() / "solved_parts.txt").string();
+}
+
+std::set<int> read_solved_parts(const std::string& path) {
+  std::set<int> parts;
+  std::ifstream in(path);
+  if (!in) return parts;  // no file: every part is the students'
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const size_t b = line.find_first_not_of(" \t\r"), e = line.find_last_not_of(" \t\r");
+    if (b == std::string::npos || line[b] == '#') continue;
+    const std::string v = line.substr(b, e - b + 1);
+    if (v.size() != 1 || v[0] < '1' || v[0] > '9')
+      throw std::runtime_error(path + ":" + std::to_string(number) + ": '" + v +
+                               "' is not a part number (one of 1-9 a line, or a # comment)");
+    parts.insert(v[0] - '0');
+  }
+  return parts;
 }
 
 BuildSignature build_signature(const std::vector<CaseResult>& results) {
@@ -238,19 +321,48 @@ namespace {
 // kHintDistance, and beyond the nearest only bugs nearly as near (a second
 // guess far behind a close first one is noise, not help), one per function.
 std::vector<Hint> select_hints(std::vector<Hint> all, const BuildSignature& build, int max_hints) {
-  std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.distance < b.distance; });
+  std::stable_sort(all.begin(), all.end(), [](const Hint& a, const Hint& b) { return a.rank < b.rank; });
   std::vector<Hint> out;
   std::set<std::string> functions;
   for (Hint& h : all) {
-    if (int(out.size()) >= max_hints || h.distance > kHintDistance) break;
-    if (!out.empty() && h.distance > out[0].distance + kHintSpread) break;
+    if (int(out.size()) >= max_hints) break;
+    // In rank order a farther bug may come before a nearer one: skip it, not stop.
+    if (h.distance > kHintDistance || (!out.empty() && h.distance > out[0].distance + kHintSpread)) continue;
     if (!functions.insert(h.bug->function).second) continue;
     h.words = fill(build, *h.bug);
-    h.text = h.words + " (" + h.bug->function + " in " + h.bug->file + "; read " +
-             section_of(h.bug->readme) + ")";
+    h.cases = explained_cases(build, *h.bug);
+    h.text = h.words + " (" + h.bug->function + " in " + h.bug->file + "; read " + section_of(h.bug->readme) +
+             cases_clause(h.cases, build) + ")";
     out.push_back(h);
   }
   return out;
+}
+
+// The part whose stage folder holds the bug's function (stages/partN_...),
+// else the bug's own part (common/bsdf.h's diffuse_f is part 3's).
+int function_part(const KnownBug& bug) {
+  const std::string prefix = "stages/part";
+  if (bug.file.rfind(prefix, 0) == 0 && bug.file.size() > prefix.size() &&
+      std::isdigit(static_cast<unsigned char>(bug.file[prefix.size()])))
+    return bug.file[prefix.size()] - '0';
+  return bug.part;
+}
+
+// The functions of the parts the tree gives solved: the functions whose
+// stage folder is of a solved part, and those of the bugs of a solved part
+// (a function of a part may hold another part's bug, as generate_ray, of
+// part 1, holds camera_not_normalized, of part 3).
+std::set<std::string> solved_functions(const Catalogue& catalogue) {
+  std::set<std::string> out;
+  for (const KnownBug& bug : catalogue.bugs)
+    if (catalogue.solved_parts.count(function_part(bug)) ||
+        (catalogue.solved_parts.count(bug.part) && function_part(bug) == bug.part))
+      out.insert(bug.function);
+  return out;
+}
+
+bool names_solved_code(const KnownBug& bug, const Catalogue& catalogue, const std::set<std::string>& functions) {
+  return catalogue.solved_parts.count(bug.part) > 0 || functions.count(bug.function) > 0;
 }
 
 }  // namespace
@@ -272,16 +384,28 @@ int earliest_failing_part(const BuildSignature& build, const CaseGroups& groups)
 
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
                               int max_hints, const std::string& exclude) {
+  return likely_bugs_without(build, catalogue, groups, [&](const KnownBug& b) { return b.name == exclude; },
+                             max_hints);
+}
+
+std::vector<Hint> likely_bugs_without(const BuildSignature& build, const Catalogue& catalogue,
+                                      const CaseGroups& groups, const std::function<bool(const KnownBug&)>& left_out,
+                                      int max_hints) {
   const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
   if (!fails) return {};
   // A case of part k runs stages 1..k only (--part k): a bug in a later
   // part cannot have failed it. Such bugs are named only when no bug that
   // could have is near (a case can fail by chance).
   const int earliest = earliest_failing_part(build, groups);
+  const std::set<std::string> solved = solved_functions(catalogue);
   std::vector<Hint> possible, later;
   for (const KnownBug& bug : catalogue.bugs) {
-    if (bug.name == exclude) continue;
-    const Hint h{&bug, signature_distance(build, bug.cases, groups), "", ""};
+    if (left_out(bug) || names_solved_code(bug, catalogue, solved)) continue;
+    Hint h{&bug, signature_distance(build, bug.cases, groups), 0.0, "", "", {}};
+    // A bug of an earlier part usually fails that part's cases too: of two
+    // bugs about as near, the one of the earliest failing case's part is
+    // the likelier.
+    h.rank = h.distance - (earliest > 0 && bug.part == earliest ? kOwnPartBonus : 0.0);
     (earliest > 0 && bug.part > earliest ? later : possible).push_back(h);
   }
   std::vector<Hint> hints = select_hints(possible, build, max_hints);
@@ -312,11 +436,14 @@ std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseS
   (void)groups;
   if (!figures.failed) return {};
   const BuildSignature build = {{case_name, figures}};
+  const std::set<std::string> solved = solved_functions(catalogue);
   std::vector<Hint> all;
   for (const KnownBug& bug : catalogue.bugs) {
     const auto it = bug.cases.find(case_name);
     if (it == bug.cases.end() || !it->second.failed) continue;
-    all.push_back(Hint{&bug, case_distance(&figures, &it->second), "", ""});
+    if (names_solved_code(bug, catalogue, solved)) continue;
+    const double d = case_distance(&figures, &it->second);
+    all.push_back(Hint{&bug, d, d, "", "", {}});
   }
   return select_hints(std::move(all), build, max_hints);
 }
@@ -348,15 +475,21 @@ std::pair<std::string, std::string> readme_section(const std::string& readme) {
   return {readme.substr(0, hash), readme.substr(hash + 1)};
 }
 
-std::string leave_one_out_table(const Catalogue& catalogue, const CaseGroups& groups, double* function_rate,
-                                double* part_rate) {
+std::string held_out_table(const Catalogue& catalogue, const CaseGroups& groups, HoldOut hold_out,
+                           HintRates* rates) {
   std::string rows;
-  int right_function = 0, right_part = 0, n = 0;
+  HintRates r;
+  struct Count {
+    int n = 0, first = 0, top = 0, part = 0;
+  } projects[2];  // 3-1 (parts 1-5), 3-2 (parts 6-9)
   for (const KnownBug& bug : catalogue.bugs) {
     const bool fails = std::any_of(bug.cases.begin(), bug.cases.end(), [](const auto& c) { return c.second.failed; });
     if (!fails) continue;
-    ++n;
-    const std::vector<Hint> hints = likely_bugs(bug.cases, catalogue, groups, 3, bug.name);
+    const auto left_out = [&](const KnownBug& other) {
+      return hold_out == HoldOut::Bug ? other.name == bug.name : other.function == bug.function;
+    };
+    const std::vector<Hint> hints = likely_bugs_without(bug.cases, catalogue, groups, left_out, 3);
+    const bool first = !hints.empty() && hints.front().bug->function == bug.function;
     bool function_ok = false, part_ok = false;
     std::string named;
     for (const Hint& h : hints) {
@@ -364,19 +497,51 @@ std::string leave_one_out_table(const Catalogue& catalogue, const CaseGroups& gr
       part_ok |= h.bug->part == bug.part;
       named += (named.empty() ? "" : ", ") + h.bug->function + fmt(" (%.2f)", h.distance);
     }
-    right_function += function_ok;
-    right_part += part_ok;
+    Count& c = projects[bug.part <= 5 ? 0 : 1];
+    ++c.n, c.first += first, c.top += function_ok, c.part += part_ok;
+    const auto yes = [](bool b) { return std::string(b ? "yes" : "no"); };
     rows += "| " + bug.name + " | " + std::to_string(bug.part) + " | " + bug.function + " | " +
-            (named.empty() ? std::string("none close") : named) + " | " + (function_ok ? "yes" : "no") + " | " +
-            (part_ok ? "yes" : "no") + " |\n";
+            (named.empty() ? std::string("none close") : named) + " | " + yes(first) + " | " + yes(function_ok) +
+            " | " + yes(part_ok) + " |\n";
   }
-  *function_rate = n ? double(right_function) / n : 0;
-  *part_rate = n ? double(right_part) / n : 0;
-  return "| bug | part | function | hints (function, distance) | right function in the top three | right part in "
-         "the top three |\n|---|---:|---|---|---|---|\n" +
-         rows + "\nRight function: " + std::to_string(right_function) + " of " + std::to_string(n) +
-         fmt(" (%.0f %%)", 100.0 * *function_rate) + "; right part: " + std::to_string(right_part) + " of " +
-         std::to_string(n) + fmt(" (%.0f %%).\n", 100.0 * *part_rate);
+  const int n = projects[0].n + projects[1].n;
+  r.bugs = n;
+  if (n) {
+    r.function_first = double(projects[0].first + projects[1].first) / n;
+    r.function_top3 = double(projects[0].top + projects[1].top) / n;
+    r.part_top3 = double(projects[0].part + projects[1].part) / n;
+  }
+  if (rates) *rates = r;
+  const auto line = [](const char* what, const Count& c) {
+    const auto pct = [&](int k) {
+      return std::to_string(k) + " of " + std::to_string(c.n) + (c.n ? fmt(" (%.0f %%)", 100.0 * k / c.n) : "");
+    };
+    return std::string(what) + ": right function first " + pct(c.first) + ", among the first three " + pct(c.top) +
+           "; right part among the first three " + pct(c.part) + ".\n";
+  };
+  return "| bug | part | function | hints (function, distance) | right function first | right function in the "
+         "first three | right part in the first three |\n|---|---:|---|---|---|---|---|\n" +
+         rows + "\n" + line("Project 3-1 (parts 1-5)", projects[0]) + line("Project 3-2 (parts 6-9)", projects[1]) +
+         line("All", Count{n, projects[0].first + projects[1].first, projects[0].top + projects[1].top,
+                             projects[0].part + projects[1].part});
+}
+
+std::vector<std::string> hint_lines_for_folder(const std::string& dir, const Catalogue& catalogue,
+                                               const CaseGroups& groups) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(fs::path(dir) / "cases", ec))
+    throw std::runtime_error(dir + ": not a grader output folder (no cases/)");
+  std::vector<CaseResult> results;
+  for (const auto& entry : fs::directory_iterator(fs::path(dir) / "cases")) {
+    const fs::path path = entry.path() / "result.json";
+    if (!fs::exists(path, ec)) continue;
+    CaseResult r;
+    if (!case_result_from_json(pt::read_json_file(path.string()), &r))
+      throw std::runtime_error(path.string() + ": not a case result");
+    results.push_back(r);
+  }
+  return hint_lines(results, catalogue, groups);
 }
 
 }  // namespace grader

@@ -10,7 +10,9 @@
 // words. Hints never hold solution code, and a build that fails nothing
 // gets none.
 #pragma once
+#include <functional>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,10 +44,25 @@ struct KnownBug {
 struct Catalogue {
   std::string commit, date;
   std::vector<KnownBug> bugs;
+  // The parts the tree gives solved (a starter kit's solved_parts.txt): the
+  // students did not write them, so no hint names a bug of theirs, nor any
+  // function such a bug is in.
+  std::set<int> solved_parts;
 };
 
 // Throws std::runtime_error naming the file when it is missing or malformed.
+// Also reads the solved parts of the tree the catalogue is in
+// (solved_parts_path(path)), when that file exists.
 Catalogue read_catalogue(const std::string& path);
+
+// Where the tree of a catalogue at `catalogue_path` (<root>/grader/known_bugs.json)
+// lists the parts it gives solved: <root>/solved_parts.txt.
+std::string solved_parts_path(const std::string& catalogue_path);
+
+// solved_parts.txt: lines starting with # are comments, then one part
+// number (1-9) a line; blank lines are ignored. A missing file lists none.
+// Throws std::runtime_error naming the file and line of anything else.
+std::set<int> read_solved_parts(const std::string& path);
 
 // A build's signature from its graded cases.
 BuildSignature build_signature(const std::vector<CaseResult>& results);
@@ -65,14 +82,22 @@ double signature_distance(const BuildSignature& build, const BuildSignature& bug
 struct Hint {
   const KnownBug* bug = nullptr;
   double distance = 0;
+  // The order the hints come in: the distance, less kOwnPartBonus for a bug
+  // of the earliest failing case's part (the thresholds take the distance).
+  double rank = 0;
   std::string words;  // the bug's words with the build's figures put in
-  std::string text;   // the words, then the function, file and README section
+  std::string text;   // the words, then the function, file and README section, then the cases
+  // The build's failing cases the bug fails too: the ones the hint explains.
+  std::vector<std::string> cases;
 };
 
 // Hints farther than this say nothing: "no known bug is close" instead.
 constexpr double kHintDistance = 0.7;
 // Further hints only within this much of the nearest one's distance.
 constexpr double kHintSpread = 0.35;
+// A bug of the earliest failing case's part ranks as if this much nearer
+// (a bug of part k most often fails part k's cases first).
+constexpr double kOwnPartBonus = 0.1;
 
 // The lowest part of the build's failing cases (0 when none fails or the
 // groups name no part). A case of part k runs stages 1..k only, so a bug
@@ -82,9 +107,15 @@ int earliest_failing_part(const BuildSignature& build, const CaseGroups& groups)
 // Up to `max_hints` closest known bugs within kHintDistance (and within
 // kHintSpread of the nearest), one per function, nearest first; none when the build fails nothing. Bugs of a
 // part after earliest_failing_part are named only when no other bug is
-// within kHintDistance. `exclude`: a bug left out (the leave-one-out evaluation).
+// within kHintDistance. No bug of a part the tree gives solved, nor of a
+// function of such a part, is named. `exclude`: a bug left out (the
+// leave-one-out evaluation).
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
                               int max_hints = 3, const std::string& exclude = "");
+// The same with every bug for which `left_out` is true left out.
+std::vector<Hint> likely_bugs_without(const BuildSignature& build, const Catalogue& catalogue,
+                                      const CaseGroups& groups, const std::function<bool(const KnownBug&)>& left_out,
+                                      int max_hints = 3);
 
 // Hints from one case alone (the viewer's difference overlay, `grader
 // compare`): the case's signature against each known bug's on that case
@@ -109,10 +140,25 @@ std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, cons
 // the file and the section (empty when it names none).
 std::pair<std::string, std::string> readme_section(const std::string& readme);
 
-// The leave-one-out table (Markdown): every bug's own signature matched
-// against the rest of the catalogue; the right function among the top
-// three, the right part first. Returns the two rates through the pointers.
-std::string leave_one_out_table(const Catalogue& catalogue, const CaseGroups& groups, double* function_rate,
-                                double* part_rate);
+// How the catalogue is measured on bugs it was not made from: each bug is
+// matched against the rest with itself left out (Bug), or with every bug of
+// its function left out (Function: a family of bugs the catalogue has never
+// seen, whose function no hint can then name; its part still can be).
+enum class HoldOut { Bug, Function };
+
+struct HintRates {
+  int bugs = 0;
+  double function_first = 0, function_top3 = 0, part_top3 = 0;
+};
+
+// The table (Markdown) of every caught bug's hints with `hold_out` left out,
+// and the rates for Project 3-1, 3-2 and both.
+std::string held_out_table(const Catalogue& catalogue, const CaseGroups& groups, HoldOut hold_out,
+                           HintRates* rates);
+
+// The hints of a graded folder (`grader run -o DIR`: DIR/cases/*/result.json),
+// as its report gives them. Throws naming the folder when it is not one.
+std::vector<std::string> hint_lines_for_folder(const std::string& dir, const Catalogue& catalogue,
+                                               const CaseGroups& groups);
 
 }  // namespace grader

@@ -30,6 +30,7 @@ struct Options {
   bool list = false;
   std::vector<std::string> shard_dirs;  // merge
   bool leave_one_out = false;  // hints
+  std::vector<std::string> graded;
   std::vector<std::string> grade_dirs;  // rescore
   std::string rescore_out;
   std::string hints_table = std::string(PT_SOURCE_DIR) + "/grader/tables/hints.md";
@@ -89,10 +90,12 @@ CLI::App* add_compare(CLI::App& app, Common& common, Options& o) {
 
 CLI::App* add_hints(CLI::App& app, Common& common, Options& o) {
   CLI::App* hints = app.add_subcommand(
-      "hints", "Leave-one-out over the known bugs: does each bug's signature name its function and part?");
+      "hints", "Measure the hints on the known bugs (each left out, each function's left out), or give graded folders' hints");
   hints->add_option("--catalogue", common.catalogue, "The known bugs' signatures")->capture_default_str();
   hints->add_option("--cases", common.cases, "The case list (the cases' groups)")->capture_default_str();
-  hints->add_flag("--leave-one-out", o.leave_one_out, "Match each bug against the others (the only mode)");
+  hints->add_flag("--leave-one-out", o.leave_one_out,
+                  "Match each bug against the others, and each function's bugs against the other functions' (the default)");
+  hints->add_option("--graded", o.graded, "Print the hints of these `grader run` output folders instead (no table)");
   hints->add_option("--table", o.hints_table, "Where the table goes")->capture_default_str();
   return hints;
 }
@@ -152,7 +155,7 @@ int main(int argc, char** argv) {
       return command_calibrate(common, builds, o.seeds, o.first_seed, o.table, o.work + "/calibrate");
     }
     if (*merge) return command_merge(common, o.out, o.shard_dirs);
-    if (*hints) return command_hints(common, o.hints_table);
+    if (*hints) return command_hints(common, o.hints_table, o.graded);
     if (*rescore) return command_rescore(common, o.grade_dirs, o.rescore_out);
     if (*compare) return command_compare(common, o.list, o.compare_case, o.compare_files, o.compare_out);
   } catch (const std::exception& e) {

@@ -4,12 +4,16 @@ mutants' grading results: for every mutant of mutants.txt with a line in
 hints.txt, where the bug lives, its hint, and its signature on every case it
 loses points on (cases/<case>/result.json of its grading run).
 
-    instructors/mutants/make_catalogue.py BUILD_ROOT [--commit C] [--out FILE]
+    instructors/mutants/make_catalogue.py BUILD_ROOT [--commit C] [--out FILE] [--update]
 
 BUILD_ROOT is grade_mutants.sh's --build-root (build/mutants by default),
 which holds <mutant>.grade/ for every mutant graded; grade_mutants.sh runs
-this at its end. Exits 1 naming the problem when a mutant has no hint, a hint
-names no mutant, or a mutant's results are missing.
+this at its end. With --update, a mutant without a folder in BUILD_ROOT keeps
+its signature from the catalogue already at --out (its hint is taken from
+hints.txt again): for adding a newly graded mutant without grading them all
+again; the catalogue's commit then names both gradings. Exits 1 naming the
+problem when a mutant has no hint, a hint names no mutant, or a mutant's
+results are missing (with --update: and it is not in the catalogue either).
 """
 import argparse
 import datetime
@@ -64,7 +68,18 @@ def main():
     ap.add_argument("build_root")
     ap.add_argument("--commit", default=None)
     ap.add_argument("--out", default=os.path.join(ROOT, "grader", "known_bugs.json"))
+    ap.add_argument("--update", action="store_true",
+                    help="keep the signatures of --out's catalogue for the mutants BUILD_ROOT has not graded")
     a = ap.parse_args()
+    old = {}
+    old_commit = None
+    if a.update:
+        try:
+            previous = json.load(open(a.out))
+            old = {b["name"]: b for b in previous["bugs"]}
+            old_commit = previous.get("commit")
+        except (OSError, ValueError, KeyError) as e:
+            sys.exit(f"{a.out}: --update needs the catalogue to update ({e})")
     parts = read_mutants(os.path.join(HERE, "mutants.txt"))
     hints = read_hints(os.path.join(HERE, "hints.txt"))
     for name in parts:
@@ -76,10 +91,18 @@ def main():
     commit = a.commit or subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
                                         text=True).stdout.strip() or "unknown"
     bugs = []
+    graded_now = []
     for name, part in parts.items():
         grade_dir = os.path.join(a.build_root, name + ".grade")
         if not os.path.isdir(os.path.join(grade_dir, "cases")):
+            if name in old:
+                bug = {"name": name, "part": part}
+                bug.update(hints[name])
+                bug["cases"] = old[name]["cases"]
+                bugs.append(bug)
+                continue
             sys.exit(f"{grade_dir}: no grading results for mutant {name} (run grade_mutants.sh first)")
+        graded_now.append(name)
         cases = {}
         for case, r in case_results(grade_dir).items():
             # Only the cases it loses points on: a passed case is neutral.
@@ -91,6 +114,8 @@ def main():
         bug.update(hints[name])
         bug["cases"] = cases
         bugs.append(bug)
+    if a.update and old_commit:
+        commit = f"{old_commit}; {', '.join(graded_now) or 'none'} at {commit}"
     out = {
         "about": "Known bugs (the grader's mutants) and their signatures, for the report's hints. Made by "
                  "instructors/mutants/make_catalogue.py from grade_mutants.sh's results; do not edit.",

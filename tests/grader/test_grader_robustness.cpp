@@ -536,7 +536,7 @@ TEST_CASE("compare: a PFM that differs names the likely cause from the known bug
   const std::string line = differs.out.substr(at, differs.out.find('\n', at) - at);
   CHECK_THAT(line, Contains("every lit image is too bright by about pi (image x3.1)") &&
                        EndsWith("(" + function + " in common/bsdf.h; read stages/part3_direct_lighting/README.md "
-                                "(\"Given code\"))"));
+                                "(\"Given code\"); explains p3_spheres_light (1 of 1 failing case))"));
   int hints = 0;
   for (size_t p = 0; (p = differs.out.find("\nLikely cause ", p)) != std::string::npos; ++p) ++hints;
   CHECK(hints <= 3);

@@ -394,7 +394,7 @@ std::string ImageScore::summary() const {
   s += buf;
   if (noise_ratio >= 0) {
     std::snprintf(buf, sizeof buf, ", variance %.2fx the reference's%s", noise_ratio,
-                  noise_ratio < 1.0 ? " (less noisy)" : "");
+                  noise_ratio < 1.0 ? " (less is fine)" : "");
     s += buf;
   }
   if (renders > 1) s += ", " + std::to_string(renders) + " renders";

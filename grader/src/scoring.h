@@ -148,7 +148,7 @@ struct ImageScore {
   // for a deterministic image "100.00% px within 0.001, largest difference 2e-07". A figure
   // that alone would look like a failure in a passing image says why it is not: a relMSE
   // far above 1 is set beside what the renders' own noise gives, a variance below the
-  // reference's is "less noisy".
+  // reference's says "less is fine".
   std::string summary() const;
 };
 

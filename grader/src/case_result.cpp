@@ -57,6 +57,8 @@ std::vector<CaseResultField> make_fields() {
   f.push_back(text("metric", &CaseResult::metric));
   f.push_back(number("relmse", &CaseResult::relmse, -1));
   f.push_back(number("noise_ratio", &CaseResult::noise_ratio, -1));
+  f.push_back(number("tail_ratio", &CaseResult::tail_ratio, -1));
+  f.push_back(number("relmse_noise", &CaseResult::relmse_noise, -1));
   f.push_back(number("seconds", &CaseResult::seconds, 0));
   f.push_back(number("render_seconds", &CaseResult::render_seconds, -1));
   f.push_back(number("reference_seconds", &CaseResult::reference_seconds, -1));

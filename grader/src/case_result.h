@@ -27,6 +27,8 @@ struct CaseResult {
   std::string metric;        // the statistics, short
   double relmse = -1;        // -1: not scored
   double noise_ratio = -1;   // the candidate's variance over the reference's (-1: not measured)
+  double tail_ratio = -1;    // the same, no pixel's share capped (fireflies counted in full)
+  double relmse_noise = -1;  // the relMSE the renders' own noise gives (-1: not measured)
   double seconds = 0;        // wall-clock of the candidate's render(s)
   double render_seconds = -1;   // the renderer's own figure, when reported
   double reference_seconds = -1;

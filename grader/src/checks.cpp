@@ -17,7 +17,8 @@ double partial_credit(const ImageScore& s, double points) {
 
 namespace {
 
-// "image differs from the reference: ...", what failed and by how much.
+// "image differs from the reference: ...", what failed and by how much:
+// the figures of the tests that failed first, then the others'.
 std::string image_problem(const ImageScore& img) {
   char buf[400];
   if (img.deterministic) {
@@ -28,13 +29,22 @@ std::string image_problem(const ImageScore& img) {
                   img.mean_reference);
     return buf;
   }
-  std::string parts = std::to_string(img.channels_failed) + " of " + std::to_string(img.channels_tested) +
-                      " pixel channels beyond " + fmt("|z| = %.2f", img.pixel_threshold);
-  if (img.blocks_tested > 0)
-    parts += ", " + std::to_string(img.blocks_failed) + " of " + std::to_string(img.blocks_tested) +
-             " blocks beyond " + fmt("|z| = %.2f", img.block_threshold);
+  std::vector<std::string> failed, passed;
+  const auto add = [&](bool off, const std::string& text) { (off ? failed : passed).push_back(text); };
   if (img.mean_tested)
-    parts += fmt(", image mean |z| = %.1f", img.max_mean_z()) + fmt(" (limit %.2f)", img.mean_threshold);
+    add(img.mean_failed, fmt("image mean |z| = %.1f", img.max_mean_z()) + fmt(" (limit %.2f)", img.mean_threshold));
+  if (img.blocks_tested > 0)
+    add(img.blocks_off, std::to_string(img.blocks_failed) + " of " + std::to_string(img.blocks_tested) +
+                            " blocks beyond " + fmt("|z| = %.2f", img.block_threshold));
+  add(img.pixels_off, std::to_string(img.channels_failed) + " of " + std::to_string(img.channels_tested) +
+                          " pixel channels beyond " + fmt("|z| = %.2f", img.pixel_threshold));
+  std::string parts;
+  for (const std::string& p : failed) parts += (parts.empty() ? "" : ", ") + p;
+  if (!passed.empty()) {
+    parts += parts.empty() ? "" : " (within limits: ";
+    for (size_t i = 0; i < passed.size(); ++i) parts += (i ? ", " : "") + passed[i];
+    parts += failed.empty() ? "" : ")";
+  }
   std::snprintf(buf, sizeof buf, "image differs from the reference: %s; mean radiance %.4g vs %.4g", parts.c_str(),
                 img.mean_candidate, img.mean_reference);
   return buf;
@@ -54,20 +64,45 @@ Check check_image(const ImageScore& image, double points) {
   return k;
 }
 
-Check check_rate_image(const ImageScore& rate, double points) {
+Check check_rate_image(const ImageScore& rate, double points, const std::string& expected) {
   Check k;
   k.name = "rate";
   k.metric = "; rate: " + rate.summary();
   k.credit = points;
   if (!rate.passed) {
-    k.problems.push_back("sample-rate image differs: " + std::to_string(rate.channels_failed) + " of " +
-                         std::to_string(rate.channels_tested) + " pixels beyond " +
-                         fmt("|z| = %.2f, ", rate.pixel_threshold) + std::to_string(rate.blocks_failed) + " of " +
-                         std::to_string(rate.blocks_tested) + " blocks off, " +
-                         fmt("mean |z| = %.1f; ", rate.max_mean_z()) + fmt("mean rate %.3f vs ", rate.mean_candidate) +
-                         fmt("%.3f", rate.mean_reference));
+    // The mean rate first (what a student can act on), then the figures
+    // of the tests that failed, then the others'.
+    std::vector<std::string> failed, passed;
+    const auto add = [&](bool off, const std::string& text) { (off ? failed : passed).push_back(text); };
+    add(rate.mean_failed, fmt("mean |z| = %.1f", rate.max_mean_z()));
+    add(rate.blocks_off, std::to_string(rate.blocks_failed) + " of " + std::to_string(rate.blocks_tested) +
+                             " blocks off");
+    add(rate.pixels_off, std::to_string(rate.channels_failed) + " of " + std::to_string(rate.channels_tested) +
+                             " pixels beyond " + fmt("|z| = %.2f", rate.pixel_threshold));
+    std::string figures;
+    for (const std::string& f : failed) figures += (figures.empty() ? "" : ", ") + f;
+    for (size_t i = 0; i < passed.size(); ++i)
+      figures += std::string(i == 0 ? (failed.empty() ? "" : " (within limits: ") : ", ") + passed[i];
+    if (!failed.empty() && !passed.empty()) figures += ")";
+    k.problems.push_back(fmt("sample-rate image differs: mean rate %.3f vs ", rate.mean_candidate) +
+                         fmt("%.3f", rate.mean_reference) + (expected.empty() ? "" : " (" + expected + ")") +
+                         "; " + figures);
     k.credit = partial_credit(rate, points);
   }
+  return k;
+}
+
+Check check_stopped_noise(double stopped_ratio, double bound, double credit_share, double points) {
+  Check k;
+  k.name = "rate";
+  k.credit = points;
+  if (stopped_ratio < 0) return k;
+  k.metric = fmt("; where pixels stop early, variance %.2fx the reference's", stopped_ratio);
+  if (stopped_ratio <= bound) return k;
+  k.problems.push_back(fmt("pixels stop too early: where they stop before -s, the image's variance is %.2fx ", stopped_ratio) +
+                       fmt("the reference's (at most %.1fx: the rule 1.96 sigma / sqrt(n) <= T mu leaves about the ", bound) +
+                       "reference's noise, whatever the estimator; is it tested once per batch, with sigma, not sigma^2?)");
+  k.credit = credit_share * points;
   return k;
 }
 
@@ -124,11 +159,24 @@ Check check_costs(const Json* stats, int part, const CostBaseline& baseline, con
   return k;
 }
 
-Check check_noise(const ImageScore& image, double bound, double credit_share, const std::string& method,
-                  double points) {
+Check check_noise(const ImageScore& image, double bound, double tail_bound, double credit_share,
+                  const std::string& method, double points) {
   Check k;
   k.name = "noise";
   k.credit = points;
+  if (image.tail_ratio > tail_bound) {
+    // Judged by its own noise such a build always looks like noise (its
+    // spread is as enormous as its error); the capped ratio cannot see it.
+    k.problems.push_back(fmt("fireflies: with its brightest pixels counted in full, the image's variance is %.3gx ",
+                             image.tail_ratio) +
+                         "that of " + method +
+                         fmt(" (a correct estimator's stays below %.0fx): a few samples are orders of magnitude too "
+                             "bright (can some weight grow without bound: a division by a number that can be nearly "
+                             "0, an exponent upside down?)",
+                             tail_bound));
+    k.credit = 0;
+    return k;
+  }
   if (image.noise_ratio < 0 || image.noise_ratio <= bound) return k;
   k.problems.push_back(fmt("the image is right but too noisy: its variance is %.1fx ", image.noise_ratio) +
                        "that of " + method + fmt(" at the same settings (at most %.0fx allowed)", bound));

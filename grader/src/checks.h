@@ -51,7 +51,17 @@ double partial_credit(const ImageScore& s, double points);
 Check check_image(const ImageScore& image, double points);
 
 // The sample-rate image (adaptive cases): partial credit when it fails.
-Check check_rate_image(const ImageScore& rate, double points);
+// `expected` says what the rate was compared with ("the reference's", or
+// what the build's own noise implies), for the message.
+Check check_rate_image(const ImageScore& rate, double points, const std::string& expected);
+
+// Adaptive sampling judged by the build's own noise: `stopped_ratio` is
+// stopped_noise_ratio (scoring.h), the build's variance where its pixels
+// stop before -s over the reference's there. Beyond `bound` the rule stops
+// too early for the noise it leaves (a rule that checks after every sample,
+// or tests sigma^2 for sigma), and the case keeps `credit_share` of its
+// points. -1: not measured.
+Check check_stopped_noise(double stopped_ratio, double bound, double credit_share, double points);
 
 // Per kind of query, from a render's --stats-json: primitive tests per
 // closest-hit query and per shadow query, shadow queries per closest-hit
@@ -81,9 +91,12 @@ Check check_costs(const Json* stats, int part, const CostBaseline& baseline, con
 // case's settings is more than `bound` times the reference's (the method
 // the case asks for) fails this check alone and keeps `credit_share` of
 // the points. `method`: what the case asks for, in the student's words
-// ("light sampling (no -H)").
-Check check_noise(const ImageScore& image, double bound, double credit_share, const std::string& method,
-                  double points);
+// ("light sampling (no -H)"). A candidate whose uncapped variance (its
+// fireflies counted in full, ImageScore::tail_ratio) is more than
+// `tail_bound` times the reference's is not noisier-but-right: a few of
+// its samples are orders of magnitude too bright, and it keeps nothing.
+Check check_noise(const ImageScore& image, double bound, double tail_bound, double credit_share,
+                  const std::string& method, double points);
 
 // The speed-up of the BVH: the intersection tests per ray it saves over the
 // --part 1 render `part1` decide; the time speed-up is reported. Any

@@ -114,7 +114,8 @@ int command_rescore(const Common& common, const std::vector<std::string>& grade_
 int command_merge(const Common& common, const std::string& out, const std::vector<std::string>& shard_dirs);
 int command_compare(const Common& common, bool list, const std::string& name, const std::vector<std::string>& files,
                     const std::string& out);
-int command_make_references(const Common& common, int runs, bool force, int retime, const std::string& work);
+int command_make_references(const Common& common, int runs, bool force, int retime, bool costs_only,
+                            const std::string& work);
 // A build to calibrate: a name for the table and its pathtracer.
 struct Build {
   std::string name, pathtracer;

@@ -11,7 +11,8 @@ namespace cli {
 
 namespace fs = std::filesystem;
 
-int command_make_references(const Common& common, int runs, bool force, int retime, const std::string& work) {
+int command_make_references(const Common& common, int runs, bool force, int retime, bool costs_only,
+                            const std::string& work) {
   const std::vector<Case> cases = common.select();
   common.check_binary();
   MakeSettings ms;
@@ -20,6 +21,7 @@ int command_make_references(const Common& common, int runs, bool force, int reti
   ms.runs = runs;
   ms.jobs = common.jobs;
   ms.force = force;
+  ms.costs_only = costs_only;
   ms.commit = git_commit();
   ms.work_dir = work;
   fs::create_directories(work);

@@ -209,17 +209,32 @@ void decide(const std::vector<Check>& checks, CaseResult* r) {
   for (size_t i = 1; i < problems.size(); ++i) r->message += "; " + problems[i];
 }
 
-// The sample-rate images of an adaptive case, scored as an image of their own.
+// The sample-rate images of an adaptive case, judged by the build's own
+// noise. A less noisy estimator than the given one (multiple importance
+// sampling of the lights) stops its pixels earlier, so a rate below the
+// reference's is not wrong in itself: what the rule asks is a noise level,
+// and where pixels stop early the build's own noise must be about the
+// reference's there (check_stopped_noise). A rate above the reference's
+// fails as a sample-rate image of its own (one-sided): a build that records
+// more samples than it took cannot be told by its images from one whose
+// estimator is noisier, and direct light's noise is part 3's to judge.
 Check rate_check(const Case& c, const Reference& ref, const Renders& rs, const Rules& rules, Signature* signature) {
   ScoreOptions ro;
   ro.channels = 1;           // the rate is in every channel
   ro.variance_floor = 1e-3;  // rates move in steps of one batch
   ro.pixel_slack = rate_step(c);
+  ro.upper_only = true;
   ro.block_alpha = ro.mean_alpha = 0.5 * rules.image_alpha();
   const ImageScore rate = score_renders(rs.rate, ref.rate_mean, ref.rate_variance, ref.runs, ro);
   if (rate.mean_reference > 0) (*signature)["rate_ratio"] = rate.mean_candidate / rate.mean_reference;
   if (rate.channels_tested > 0) (*signature)["rate_failed_fraction"] = double(rate.channels_failed) / rate.channels_tested;
-  return check_rate_image(rate, c.points);
+  Check k = check_rate_image(rate, c.points, "the reference's: a rate above it fails");
+  const double stopped = stopped_noise_ratio(rs.radiance, ref.variance, ref.rate_mean, ScoreOptions().noise_cap);
+  const Check noise = check_stopped_noise(stopped, rules.stopped_noise_bound, rules.noise_credit, c.points);
+  k.metric += noise.metric;
+  k.problems.insert(k.problems.end(), noise.problems.begin(), noise.problems.end());
+  k.credit = std::min(k.credit, noise.credit);
+  return k;
 }
 
 // Costs, from part 2 on (part 1 tests every primitive by design): per
@@ -299,13 +314,16 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
   const ImageScore img = score_renders(rs.radiance, ref.mean, ref.variance, ref.runs, case_score_options(c, ref, rules));
   r.relmse = img.relmse;
   r.noise_ratio = img.noise_ratio;
+  r.tail_ratio = img.tail_ratio;
+  if (!img.deterministic) r.relmse_noise = img.relmse_expected;
   const ImageBuffer candidate = mean_of(rs.radiance.images);
   r.signature = image_signature(candidate, ref.mean, img);
   save_pictures(case_dir, candidate, ref, img);
   checks.push_back(check_image(img, c.points));
   // Noise is its own check, where the image is right: a wrong image's
   // problem is the image.
-  if (img.passed) checks.push_back(check_noise(img, rules.noise_bound_for(c), rules.noise_credit, case_method(c), c.points));
+  if (img.passed) checks.push_back(check_noise(img, rules.noise_bound_for(c), rules.tail_bound, rules.noise_credit,
+                                              case_method(c), c.points));
 
   if (c.kind == CaseKind::Rate) checks.push_back(rate_check(c, ref, rs, rules, &r.signature));
   if (c.part >= 2) {

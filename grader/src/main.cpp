@@ -21,6 +21,7 @@ struct Options {
   bool force = false;
   std::string work = "build/grader_work";  // make-references, calibrate
   int retime = 0;
+  bool costs_only = false;
   int seeds = 50;  // calibrate
   std::vector<std::string> builds;  // calibrate: NAME=PATH
   uint64_t first_seed = 2000;
@@ -52,9 +53,12 @@ CLI::App* add_make_references(CLI::App& app, Common& common, Options& o) {
   make->add_option("--runs", o.runs, "Independent renders per case")->check(CLI::Range(2, 100000))->capture_default_str();
   make->add_flag("--force", o.force, "Remake references that already match their case");
   make->add_option("--work", o.work, "Scratch folder")->capture_default_str();
-  make->add_option("--retime", o.retime,
-                   "Only re-measure the recorded render times: median of N renders, one at a time (-j ignored)")
+  CLI::Option* retime = make->add_option("--retime", o.retime,
+                   "Only re-measure the recorded render times (median of N renders, one at a time; -j ignored) and costs")
       ->check(CLI::Range(1, 1000));
+  make->add_flag("--costs-only", o.costs_only,
+                 "With --retime: re-measure only the costs per query (as the grader renders each case), keep the times")
+      ->needs(retime);
   return make;
 }
 
@@ -143,7 +147,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*run) return command_run(common, o.out, o.seed, o.quiet);
-    if (*make) return command_make_references(common, o.runs, o.force, o.retime, o.work);
+    if (*make) return command_make_references(common, o.runs, o.force, o.retime, o.costs_only, o.work);
     if (*calibrate) {
       std::vector<Build> builds;
       for (const std::string& b : o.builds) {

@@ -35,6 +35,7 @@ struct MakeSettings {
   bool force = false;   // remake even when a matching reference exists
   std::string commit;   // recorded in the metadata
   std::string work_dir; // scratch space
+  bool costs_only = false;  // retime_reference: re-measure the costs only, keep the recorded times
 };
 
 // Makes (or, unless forced, keeps) the reference of `c` in `root`/<name>.
@@ -46,6 +47,10 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
 // is as quiet as it gets) and the costs per query, without touching its
 // images. For references made on a busy machine, whose times would make
 // every build look fast, and after the renderer counts something new.
+// The costs are measured the way the grader renders the case (its renders
+// at their share of -s, counts summed), never from one render at the whole
+// -s: from part 5 on adaptive sampling makes the two differ. With
+// s.costs_only, only the costs are re-measured and the times are kept.
 bool retime_reference(const std::string& root, const Case& c, const MakeSettings& s, int runs, std::string* message);
 
 }  // namespace grader

@@ -107,8 +107,30 @@ std::string columns(const std::vector<std::vector<std::string>>& rows, const std
 std::string findings_text(const std::vector<CaseResult>& rs, const std::vector<std::string>& hints) {
   std::string s;
   for (const std::string& f : run_findings(rs)) s += "Noticed: " + f + "\n";
+  // The likely causes are the whole build's: say which cases they explain
+  // (those that lost points, but for a part not written yet).
+  std::vector<std::string> lost;
+  for (const CaseResult& r : rs)
+    if (r.verdict == Verdict::Failed && !doomed_by_todo(r)) lost.push_back(r.c.name);
+  if (!hints.empty() && !lost.empty()) {
+    const size_t shown = std::min<size_t>(lost.size(), 8);
+    std::string names;
+    for (size_t i = 0; i < shown; ++i) names += (i ? ", " : "") + lost[i];
+    if (shown < lost.size()) names += fmt(" and %.0f more", double(lost.size() - shown));
+    s += "For the cases that lost points (" + names + "):\n";
+  }
   for (const std::string& h : hints) s += h + "\n";
   return s;
+}
+
+// The relMSE column. relMSE is relative to m^2 + 0.01, so where a passing
+// image holds fireflies (a near-mirror metal that sees the light) it is
+// large for any render, the reference's too: it is then set beside what
+// the renders' own noise gives, so that it does not read as a failure.
+static std::string relmse_cell(const CaseResult& r) {
+  if (r.verdict == Verdict::Passed && r.relmse > 1.0 && r.relmse_noise > 0)
+    return fmt("%.3g", r.relmse) + fmt(" (noise %.3g)", r.relmse_noise);
+  return opt("%.4f", r.relmse);
 }
 
 std::string terminal_table(const std::vector<CaseResult>& rs, const std::vector<std::string>& hints) {
@@ -117,7 +139,7 @@ std::string terminal_table(const std::vector<CaseResult>& rs, const std::vector<
   for (const auto& r : rs) {
     const std::string detail = r.verdict == Verdict::Passed ? r.metric : r.message;
     rows.push_back({std::to_string(r.c.part), r.c.name, verdict_name(r.verdict),
-                    fmt("%.2f", r.score) + "/" + fmt("%g", r.max_score), opt("%.4f", r.relmse),
+                    fmt("%.2f", r.score) + "/" + fmt("%g", r.max_score), relmse_cell(r),
                     fmt("%.1f s", r.seconds), time_ratio(r.speed_ratio), detail});
   }
   std::ostringstream s;
@@ -362,7 +384,7 @@ std::string html_report(const std::vector<CaseResult>& rs, const RunInfo& info) 
   for (const auto& r : rs)
     s << "<tr><td>" << r.c.part << "</td><td><a href=\"#" << r.c.name << "\">" << r.c.name << "</a></td><td class=\""
       << verdict_name(r.verdict) << "\">" << verdict_name(r.verdict) << "</td><td>" << fmt("%.2f", r.score) << "/"
-      << fmt("%g", r.max_score) << "</td><td>" << opt("%.4f", r.relmse) << "</td><td>" << fmt("%.1f s", r.seconds)
+      << fmt("%g", r.max_score) << "</td><td>" << relmse_cell(r) << "</td><td>" << fmt("%.1f s", r.seconds)
       << "</td><td>" << time_ratio(r.speed_ratio) << "</td><td>"
       << html_escape(r.verdict == Verdict::Passed ? r.metric : r.message) << "</td></tr>\n";
   s << "</table>\n";

@@ -30,6 +30,17 @@ struct Rules {
   // is not the one the case asks for).
   double noise_bound = 4.0;
   double noise_credit = 0.5;
+  // Heavy tails: a candidate whose variance with nothing capped (every
+  // firefly counted in full) is more than this many times the reference's
+  // keeps nothing. Orders of magnitude above what correct estimators reach
+  // (instructors/legal_variants/variants.md; the reference with -H where
+  // light sampling is asked), orders of magnitude below what a wrong weight
+  // that makes a few samples enormous gives (mf_D_tan2_inverted: 10^12).
+  double tail_bound = 1000.0;
+  // Part 5: where pixels stop before -s, a correct rule leaves about the
+  // reference's noise whatever the estimator (scoring.h's
+  // stopped_noise_ratio); more than this many times it stops too early.
+  double stopped_noise_bound = 1.5;
   // Cases that keep only the paths of exactly -m bounces (-o 0) let the
   // legal choices' extra noise compound at every bounce (roulette at 0.5
   // rather than 0.7 costs 1.4 times the variance per bounce, uniform bounce

@@ -202,7 +202,8 @@ void image_mean_test(const double channel_d[3], const double channel_v[3], int n
   for (int c = 0; c < channels; ++c) {
     const double se = std::sqrt(channel_v[c]);
     s->mean_z[c] = se > 0 ? channel_d[c] / se : 0.0;
-    if (std::fabs(s->mean_z[c]) > s->mean_threshold) s->mean_failed = true;
+    const double z = opts.upper_only ? s->mean_z[c] : std::fabs(s->mean_z[c]);
+    if (z > s->mean_threshold) s->mean_failed = true;
   }
 }
 
@@ -236,7 +237,7 @@ bool block_test(const Differences& D, const ScoreOptions& opts, ImageScore* s) {
         // Pixels are independent (each has its own random stream), so the
         // block mean's variance is the sum of theirs over count^2.
         const double se = std::sqrt(v) / count;
-        const double z = std::fabs(d / count) / se;
+        const double z = opts.upper_only ? std::max(0.0, d / count) / se : std::fabs(d / count) / se;
         s->max_block_z = std::max(s->max_block_z, z);
         if (z > s->block_threshold) {
           ++s->blocks_failed;
@@ -270,6 +271,30 @@ double noise_ratio(const Differences& D, const ScoreOptions& opts, double cap) {
 }
 
 }  // namespace
+
+double stopped_noise_ratio(const CandidateRenders& radiance, const ImageBuffer& ref_variance,
+                           const ImageBuffer& ref_rate_mean, double cap) {
+  const size_t k = radiance.images.size();
+  if (k < 2) return -1;
+  double num = 0, den = 0;
+  for (size_t i = 0; i < ref_variance.pixels.size(); ++i) {
+    // Chosen by the reference's rate alone: choosing by the candidate's
+    // too would pick the pixels where its renders happened to stop early,
+    // on a lucky run of samples, and so were noisier than the same pixel's
+    // full renders that the reference's variance mostly holds.
+    if (!(ref_rate_mean.pixels[i][0] < 1.0 - 1e-6)) continue;
+    for (int c = 0; c < 3; ++c) {
+      double sum = 0, ss = 0;
+      for (const ImageBuffer& img : radiance.images) sum += img.pixels[i][c];
+      const double mean = sum / double(k);
+      for (const ImageBuffer& img : radiance.images) ss += (img.pixels[i][c] - mean) * (img.pixels[i][c] - mean);
+      const double vr = ref_variance.pixels[i][c];
+      num += std::min(ss / double(k - 1) * radiance.share, cap * vr);
+      den += vr;
+    }
+  }
+  return den > 0 ? num / den : -1;
+}
 
 ImageBuffer mean_of(const std::vector<ImageBuffer>& images) {
   if (images.empty()) return ImageBuffer();
@@ -312,7 +337,7 @@ ImageScore score_renders(const CandidateRenders& cand, const ImageBuffer& mean, 
         const double d = D.d(x, y, c), s2 = D.sigma2(x, y, c), mv = value_from_top(mean, x, y, c);
         channel_d[c] += d;
         channel_v[c] += s2;
-        const double z = std::max(0.0, std::fabs(d) - opts.pixel_slack) / std::sqrt(s2);
+        const double z = std::max(0.0, (opts.upper_only ? d : std::fabs(d)) - opts.pixel_slack) / std::sqrt(s2);
         if (z > s.pixel_threshold) ++s.channels_failed;
         float& pz = s.pixel_z[size_t(y) * w + x];
         pz = std::max(pz, float(z));
@@ -327,10 +352,13 @@ ImageScore score_renders(const CandidateRenders& cand, const ImageBuffer& mean, 
   s.relmse = rel / n;
   s.relmse_expected = rel_expected / n;
   s.noise_ratio = noise_ratio(D, opts, opts.noise_cap);
+  s.tail_ratio = noise_ratio(D, opts, HUGE_VAL);
   const bool pixels_ok = s.channels_failed <= (1.0 - opts.min_pass_fraction) * n;
+  s.pixels_off = !pixels_ok;
 
   if (opts.mean_test) image_mean_test(channel_d, channel_v, nc, opts, &s);
   const bool blocks_ok = !opts.block_test || block_test(D, opts, &s);
+  s.blocks_off = !blocks_ok;
   s.passed = pixels_ok && blocks_ok && !s.mean_failed;
   return s;
 }
@@ -359,10 +387,14 @@ std::string ImageScore::summary() const {
     std::snprintf(buf, sizeof buf, ", image mean |z| %.1f", max_mean_z());
     s += buf;
   }
-  std::snprintf(buf, sizeof buf, ", relMSE %.3g (noise %.3g)", relmse, relmse_expected);
+  // relMSE is relative to m^2 + 0.01: where the image holds fireflies (a
+  // near-mirror metal seeing the light) it is large for any render, the
+  // reference's too; what matters is how it compares with the noise.
+  std::snprintf(buf, sizeof buf, ", relMSE %.3g (noise alone %.3g)", relmse, relmse_expected);
   s += buf;
   if (noise_ratio >= 0) {
-    std::snprintf(buf, sizeof buf, ", variance %.2fx the reference's", noise_ratio);
+    std::snprintf(buf, sizeof buf, ", variance %.2fx the reference's%s", noise_ratio,
+                  noise_ratio < 1.0 ? " (less is fine)" : "");
     s += buf;
   }
   if (renders > 1) s += ", " + std::to_string(renders) + " renders";

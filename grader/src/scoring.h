@@ -40,6 +40,11 @@
 // case's settings over the reference's (each pixel's share capped, so
 // that one firefly cannot decide it); the checks (checks.h) hold it to a
 // generous bound where the case asks for a method whose noise matters.
+// `tail_ratio` is the same ratio uncapped, where heavy tails count: judged
+// by its own noise, a build whose error is a few enormous pixels always
+// looks like noise (its spread is as enormous as its error), so the
+// checks also hold the uncapped ratio to a bound orders of magnitude above
+// what any correct estimator's fireflies reach.
 //
 // With a single candidate render (K = 1: `grader compare` of one file, the
 // viewer's difference overlay) there is no spread to estimate u from, and
@@ -81,6 +86,11 @@ struct ScoreOptions {
   // would fail the test: calibration measured half the renders of one case).
   // Blocks and the image mean still see a systematic shift of any size.
   double pixel_slack = 0.0;
+  // Only a candidate above the reference fails (per pixel, block and the
+  // image mean): the sample-rate image of a build whose estimator is less
+  // noisy than the reference's may lie below it (its own noise says whether
+  // it stopped too early: stopped_noise_ratio).
+  bool upper_only = false;
   bool block_test = true;            // off for deterministic references
   int block_size = 8;
   double block_clamp = 3.0;          // pixel differences winsorised at +-3 sigma
@@ -111,6 +121,7 @@ struct ImageScore {
   int channels_tested = 0, channels_failed = 0;
   int blocks_tested = 0, blocks_failed = 0;  // (block, channel) pairs
   int distinct_blocks_failed = 0;
+  bool pixels_off = false, blocks_off = false;  // which tests failed the image (and mean_failed)
   double pixel_threshold = 0, block_threshold = 0;  // |z| limits
   double max_block_z = 0;
   bool deterministic = false;       // compared by value: pixel_threshold is unused
@@ -124,10 +135,20 @@ struct ImageScore {
   // The candidate's variance at the case's settings over the reference's
   // (-1: not measured: one render, or a reference without noise).
   double noise_ratio = -1;
+  // The same ratio with nothing capped (-1: not measured): every pixel
+  // channel counts in full, so a few astronomically bright pixels (a
+  // firefly a thousand times anything the reference's estimator makes)
+  // show here, where noise_ratio's cap hides them. A correct estimator's
+  // rare fireflies move it by a few times; a wrong weight that makes a
+  // handful of samples enormous moves it by orders of magnitude.
+  double tail_ratio = -1;
   std::vector<float> pixel_z;  // per pixel, the largest |z| over channels (deterministic: |c - m| / tolerance)
   double max_mean_z() const;   // the largest |z| of the image-mean test
-  // "99.98% px ok, 0/192 blocks off, mean |z| 0.8, relMSE 0.012 (noise 0.011)", or for a
-  // deterministic image "100.00% px within 0.001, largest difference 2e-07"
+  // "99.98% px ok, 0/192 blocks off, mean |z| 0.8, relMSE 0.012 (noise alone 0.011)", or
+  // for a deterministic image "100.00% px within 0.001, largest difference 2e-07". A figure
+  // that alone would look like a failure in a passing image says why it is not: a relMSE
+  // far above 1 is set beside what the renders' own noise gives, a variance below the
+  // reference's says "less is fine".
   std::string summary() const;
 };
 
@@ -149,6 +170,20 @@ ImageScore score_renders(const CandidateRenders& candidate, const ImageBuffer& m
 // One render (judged with the reference's variance).
 ImageScore score_image(const ImageBuffer& candidate, const ImageBuffer& mean, const ImageBuffer& variance,
                        int reference_runs, const ScoreOptions& opts);
+
+// Adaptive sampling's rule, 1.96 sigma / sqrt(n) <= T mu, stops a pixel
+// when its own noise reaches a level set by the tolerance, whatever the
+// estimator: a less noisy estimator gets there with fewer samples. So
+// where pixels stop early, a correct rule leaves about the reference's
+// noise in the image (less where a pixel stops at its first batch), and a
+// rule that stops too early leaves more. This is the candidate's variance
+// of one render over the reference's, summed over the pixels where the
+// reference's renders stopped before -s (its mean rate below 1), each pixel
+// channel's share capped at `cap` times the reference's; -1 when there are
+// none or the reference has no noise there. `radiance`: the candidate's
+// renders (each with the whole -s); `ref_rate_mean`: the reference's rate.
+double stopped_noise_ratio(const CandidateRenders& radiance, const ImageBuffer& ref_variance,
+                           const ImageBuffer& ref_rate_mean, double cap);
 
 // The mean of several renders, pixel by pixel (the candidate's image).
 ImageBuffer mean_of(const std::vector<ImageBuffer>& images);

@@ -48,6 +48,7 @@ ImageScore failed_score(double mean_candidate, double mean_reference, double rel
   s.mean_reference = mean_reference;
   s.relmse = relmse;
   s.relmse_expected = relmse_expected;
+  s.pixels_off = s.blocks_off = s.mean_failed = true;
   return s;
 }
 
@@ -81,13 +82,28 @@ TEST_CASE("Image check: a match keeps the points, a failure earns half at the no
 
   const Check at_noise = check_image(failed_score(1.0, 1.02, 0.03, 0.03), 4.0);
   REQUIRE(at_noise.problems.size() == 1);
-  CHECK_THAT(at_noise.problems[0], Catch::StartsWith("image differs from the reference: 40 of 3000 pixel channels "
-                                                     "beyond |z| = 4.50, 3 of 150 blocks beyond |z| = 3.60, image "
-                                                     "mean |z| = 5.5 (limit 3.40); mean radiance 1 vs 1.02"));
+  CHECK_THAT(at_noise.problems[0], Catch::StartsWith("image differs from the reference: image mean |z| = 5.5 (limit "
+                                                     "3.40), 3 of 150 blocks beyond |z| = 3.60, 40 of 3000 pixel "
+                                                     "channels beyond |z| = 4.50; mean radiance 1 vs 1.02"));
   CHECK(at_noise.credit == Approx(2.0));
   CHECK(check_image(failed_score(1.0, 1.02, 0.055, 0.03), 4.0).credit == Approx(1.0));  // 0.025 above the noise
   CHECK(check_image(failed_score(1.0, 1.02, 0.09, 0.03), 4.0).credit == 0.0);           // 0.06 above
   CHECK(check_image(failed_score(0.85, 1.0, 0.03, 0.03), 4.0).credit == 0.0);           // mean 15 % off
+
+  // The figure that failed the image comes first, the ones within their
+  // limits after it, said to be so.
+  ImageScore mean_only = failed_score(1.0, 1.02, 0.03, 0.03);
+  mean_only.pixels_off = mean_only.blocks_off = false;
+  mean_only.channels_failed = mean_only.blocks_failed = 0;
+  CHECK_THAT(check_image(mean_only, 4.0).problems.at(0),
+             Catch::StartsWith("image differs from the reference: image mean |z| = 5.5 (limit 3.40) (within limits: 0 "
+                               "of 150 blocks beyond |z| = 3.60, 0 of 3000 pixel channels beyond |z| = 4.50); mean "
+                               "radiance 1 vs 1.02"));
+  ImageScore blocks_only = failed_score(1.0, 1.02, 0.03, 0.03);
+  blocks_only.pixels_off = blocks_only.mean_failed = false;
+  CHECK_THAT(check_image(blocks_only, 4.0).problems.at(0),
+             Catch::StartsWith("image differs from the reference: 3 of 150 blocks beyond |z| = 3.60 (within limits: "
+                               "image mean |z| = 5.5"));
 
   ImageScore by_value = failed_score(0.5, 0.5, 0, 0);
   by_value.deterministic = true;
@@ -102,17 +118,31 @@ TEST_CASE("Image check: a match keeps the points, a failure earns half at the no
 TEST_CASE("Rate image check: its summary joins the case's metric, a failure says so and caps the credit", "[grader]") {
   ImageScore pass;
   pass.passed = true;
-  const Check ok = check_rate_image(pass, 2.0);
+  const Check ok = check_rate_image(pass, 2.0, "the reference's");
   CHECK(ok.problems.empty());
   CHECK(ok.credit == 2.0);
   CHECK(ok.metric == "; rate: " + pass.summary());
 
-  const Check bad = check_rate_image(failed_score(0.7, 0.8, 0.02, 0.02), 2.0);
+  const Check bad = check_rate_image(failed_score(0.9, 0.8, 0.02, 0.02), 2.0, "the reference's");
   REQUIRE(bad.problems.size() == 1);
-  CHECK_THAT(bad.problems[0], Catch::StartsWith("sample-rate image differs: 40 of 3000 pixels beyond |z| = 4.50, 3 of "
-                                                "150 blocks off, mean |z| = 5.5; mean rate 0.700 vs 0.800"));
+  CHECK_THAT(bad.problems[0], Catch::StartsWith("sample-rate image differs: mean rate 0.900 vs 0.800 (the reference's); "
+                                                "mean |z| = 5.5, 3 of 150 blocks off, 40 of 3000 pixels beyond |z| = "
+                                                "4.50"));
   CHECK(bad.credit == 0.0);  // the mean rate is 12.5 % off
-  CHECK(check_rate_image(failed_score(0.79, 0.8, 0.02, 0.02), 2.0).credit == Approx(1.0));
+  CHECK(check_rate_image(failed_score(0.81, 0.8, 0.02, 0.02), 2.0, "the reference's").credit == Approx(1.0));
+}
+
+TEST_CASE("Stopped-noise check: pixels that stop early must leave about the reference's noise, no more", "[grader]") {
+  CHECK(check_stopped_noise(-1, 1.5, 0.5, 2.0).problems.empty());  // nothing stopped early: nothing to judge
+  const Check ok = check_stopped_noise(0.8, 1.5, 0.5, 2.0);        // a less noisy estimator stopping earlier
+  CHECK(ok.problems.empty());
+  CHECK(ok.credit == 2.0);
+  CHECK(ok.metric == "; where pixels stop early, variance 0.80x the reference's");
+  const Check early = check_stopped_noise(2.1, 1.5, 0.5, 2.0);
+  REQUIRE(early.problems.size() == 1);
+  CHECK_THAT(early.problems[0], Catch::StartsWith("pixels stop too early: where they stop before -s, the image's "
+                                                  "variance is 2.10x the reference's (at most 1.5x"));
+  CHECK(early.credit == 1.0);
 }
 
 TEST_CASE("Cost check: part 2 against a plain binary BVH, parts 3-5 only against a missing BVH", "[grader]") {
@@ -204,17 +234,34 @@ TEST_CASE("Noise check: a right image far noisier than the case's method keeps h
   ImageScore s;
   s.passed = true;
   s.noise_ratio = 3.9;
-  Check k = check_noise(s, 4.0, 0.5, "light sampling (-l 4)", 2.0);
+  Check k = check_noise(s, 4.0, 1000.0, 0.5, "light sampling (-l 4)", 2.0);
   CHECK(k.problems.empty());
   CHECK(k.credit == 2.0);
   s.noise_ratio = 140.0;  // hemisphere sampling where light sampling is asked, on the Cornell box
-  k = check_noise(s, 4.0, 0.5, "light sampling (-l 4)", 2.0);
+  k = check_noise(s, 4.0, 1000.0, 0.5, "light sampling (-l 4)", 2.0);
   REQUIRE(k.problems.size() == 1);
   CHECK(k.problems[0] == "the image is right but too noisy: its variance is 140.0x that of light sampling (-l 4) at the "
                          "same settings (at most 4x allowed)");
   CHECK(k.credit == 1.0);
   s.noise_ratio = -1;  // one render, or a reference without noise: nothing to judge
-  CHECK(check_noise(s, 4.0, 0.5, "x", 2.0).problems.empty());
+  CHECK(check_noise(s, 4.0, 1000.0, 0.5, "x", 2.0).problems.empty());
+}
+
+TEST_CASE("Noise check: fireflies orders of magnitude beyond the reference's leave nothing, whatever the capped ratio",
+          "[grader]") {
+  ImageScore s;
+  s.passed = true;
+  s.noise_ratio = 0.76;     // capped: a handful of enormous pixels barely move it
+  s.tail_ratio = 1.6e12;    // uncapped
+  Check k = check_noise(s, 4.0, 1000.0, 0.5, "importance sampling of the microfacet BRDF's normal distribution", 2.0);
+  REQUIRE(k.problems.size() == 1);
+  CHECK_THAT(k.problems[0], Catch::StartsWith("fireflies: with its brightest pixels counted in full, the image's "
+                                              "variance is 1.6e+12x that of importance sampling"));
+  CHECK(k.credit == 0.0);
+  s.tail_ratio = 900.0;     // below the bound: a correct estimator's rare fireflies
+  CHECK(check_noise(s, 4.0, 1000.0, 0.5, "x", 2.0).problems.empty());
+  s.noise_ratio = 140.0;    // and a noisy method keeps half, as before
+  CHECK(check_noise(s, 4.0, 1000.0, 0.5, "x", 2.0).credit == 1.0);
 }
 
 TEST_CASE("Speed-up check: the intersection tests the BVH saves decide, the time speed-up is reported", "[grader]") {

@@ -195,3 +195,111 @@ TEST_CASE("Under the floor of a very noisy estimator a large bias still fails", 
   const auto sample = [&] { return hit(rng) ? big : 0.0; };
   for (int t = 0; t < 20; ++t) CHECK_FALSE(score_renders(renders(4, w, h, spp, sample), mean, var, 100, {}).passed);
 }
+
+// A wrong weight that makes a rare sample enormous (a microfacet D with
+// tan^2 inverted: a few light samples on metal 10^5 times too bright):
+// judged by its own renders, whose spread is as enormous as the error,
+// the image passes, and the capped noise ratio (each pixel channel's share
+// at most 50 times the reference's) hardly moves. The uncapped ratio sees
+// the tails. The candidate: the reference's estimator (mean 0.5, variance
+// 0.25 per sample) but one sample in 10^5 is 50,000. 20 seeded trials:
+// each one's uncapped ratio is beyond the noise check's tail bound while
+// its capped ratio stays below the ordinary bound of 4.
+TEST_CASE("Enormous fireflies that pass as their own noise are seen by the uncapped variance ratio", "[grader]") {
+  const int w = 64, h = 48, spp = 16;
+  const ImageBuffer mean = constant(w, h, 0.5f), var = constant(w, h, 0.25f / spp);
+  std::mt19937_64 rng(4242);
+  std::normal_distribution<double> right(0.5, 0.5);
+  std::bernoulli_distribution firefly(1e-5);
+  const auto sample = [&] { return firefly(rng) ? 5e4 : right(rng); };
+  int seen = 0, capped_quiet = 0;
+  for (int t = 0; t < 20; ++t) {
+    const ImageScore s = score_renders(renders(4, w, h, spp, sample), mean, var, 100, {});
+    seen += s.tail_ratio > 1000.0;
+    capped_quiet += s.noise_ratio < 4.0;
+  }
+  CHECK(seen == 20);
+  CHECK(capped_quiet == 20);
+}
+
+// The legal heavy tails above (roulette's fireflies, 25 times the mean,
+// one sample in 50; hemisphere sampling's rare hits of a small light, 100
+// times the mean, one in 100) stay orders of magnitude below the tail
+// bound: 100 seeded trials each. The first's uncapped ratio is about 1
+// (the reference has the same tails): none beyond 10; the second's about
+// its true 99: none beyond the bound.
+TEST_CASE("A correct estimator's fireflies keep the uncapped variance ratio far below the tail bound", "[grader]") {
+  const int w = 64, h = 48;
+  {
+    const int spp = 16;
+    const double p = 0.02, big = 25.0, sample_var = p * big * big - 0.25;
+    const ImageBuffer mean = constant(w, h, 0.5f), var = constant(w, h, float(sample_var / spp));
+    std::mt19937_64 rng(185);
+    std::bernoulli_distribution firefly(p);
+    const auto sample = [&] { return firefly(rng) ? big : 0.0; };
+    int beyond = 0;
+    for (int t = 0; t < 100; ++t) beyond += score_renders(renders(4, w, h, spp, sample), mean, var, 100, {}).tail_ratio > 10;
+    CHECK(beyond == 0);
+  }
+  {
+    const int spp = 4;
+    const double p = 0.01, big = 50.0;
+    const ImageBuffer mean = constant(w, h, 0.5f), var = constant(w, h, 0.25f / spp);
+    std::mt19937_64 rng(2027);
+    std::bernoulli_distribution hit(p);
+    const auto sample = [&] { return hit(rng) ? big : 0.0; };
+    int beyond = 0;
+    for (int t = 0; t < 100; ++t) beyond += score_renders(renders(4, w, h, spp, sample), mean, var, 100, {}).tail_ratio > 1000;
+    CHECK(beyond == 0);
+  }
+}
+
+// Adaptive sampling with a less noisy estimator (multiple importance
+// sampling of the lights) stops its pixels earlier and leaves the same
+// noise where they stop. The reference: rate 0.25 or 0.75 per render (mean
+// 0.5, batches of a quarter of -s), radiance variance 0.01 per render. A:
+// every pixel stops at its first batch (rate 0.25) with the same variance
+// 0.01; B: the same rate but variance 0.0225 (a rule that stops too early
+// for its noise); C: the reference's noise and a rate of 1 (a build that
+// records every sample whatever it took). 20 seeded trials each: A passes
+// the one-sided rate test (and fails the two-sided one, the old test, in
+// every trial) and its stopped-noise ratio is within 1.5; B's is beyond
+// 1.5 (about 2.25, with a standard error near 0.04) in every trial; C
+// fails the rate test in every trial.
+TEST_CASE("A lower sample rate passes when the build's own noise where pixels stop is the reference's", "[grader]") {
+  const int w = 64, h = 48;
+  const ImageBuffer mean = constant(w, h, 0.5f), var = constant(w, h, 0.01f);
+  const ImageBuffer rate_mean = constant(w, h, 0.5f), rate_var = constant(w, h, 0.0625f);
+  std::mt19937_64 rng(55);
+  const auto radiance = [&](double sd) {
+    CandidateRenders c;
+    std::normal_distribution<double> n(0.5, sd);
+    for (int i = 0; i < 4; ++i) c.images.push_back(render(w, h, 1, [&] { return n(rng); }));
+    return c;
+  };
+  const auto rates = [&](float r) {
+    CandidateRenders c;
+    for (int i = 0; i < 4; ++i) c.images.push_back(constant(w, h, r));
+    return c;
+  };
+  ScoreOptions ro;
+  ro.channels = 1;
+  ro.variance_floor = 1e-3;
+  ro.pixel_slack = 0.25;
+  ScoreOptions two_sided = ro;
+  ro.upper_only = true;
+  int a_pass = 0, a_old_fail = 0, a_quiet = 0, b_noisy = 0, c_fail = 0;
+  for (int t = 0; t < 20; ++t) {
+    const CandidateRenders a_rate = rates(0.25f), a_radiance = radiance(0.1);
+    a_pass += score_renders(a_rate, rate_mean, rate_var, 100, ro).passed;
+    a_old_fail += !score_renders(a_rate, rate_mean, rate_var, 100, two_sided).passed;
+    a_quiet += stopped_noise_ratio(a_radiance, var, rate_mean, 50.0) <= 1.5;
+    b_noisy += stopped_noise_ratio(radiance(0.15), var, rate_mean, 50.0) > 1.5;
+    c_fail += !score_renders(rates(1.0f), rate_mean, rate_var, 100, ro).passed;
+  }
+  CHECK(a_pass == 20);
+  CHECK(a_old_fail == 20);
+  CHECK(a_quiet == 20);
+  CHECK(b_noisy == 20);
+  CHECK(c_fail == 20);
+}

@@ -229,7 +229,7 @@ def cmd_intake(a):
 
 # ---- The build log as the student sees it ----
 
-DIAG = re.compile(r"^(?P<path>[^\s:][^:]*):(?P<line>\d+):(?:(?P<col>\d+):)?(?P<rest>.*)$")
+DIAG = re.compile(r"^(?P<path>[^\s:][^:\s]*):(?P<line>\d+):(?:(?P<col>\d+):)?(?P<rest>.*)$")
 IN_FUNCTION = re.compile(r"^(?P<path>[^\s:][^:]*): (?P<rest>(In |At global scope|In instantiation).*)$")
 INCLUDED = re.compile(r"^(?P<lead>In file included from|\s+from) (?P<path>[^:]+):(?P<line>\d+)(?::\d+)?(?P<end>[:,])$")
 LINKER_LOC = re.compile(r"^(?P<path>[^\s:][^:]*):\((?P<rest>.*)$")
@@ -272,6 +272,12 @@ class LogFilter:
         quoting = False
         hidden = 0
         for line in lines:
+            m = INCLUDED.match(line)
+            if m:
+                quoting = False
+                kind, shown = self.where(m.group("path"))
+                out.append(f"{m.group('lead')} {shown}:{m.group('line')}{m.group('end')}")
+                continue
             m = DIAG.match(line)
             if m:
                 kind, shown = self.where(m.group("path"))
@@ -282,12 +288,6 @@ class LogFilter:
                 col = f"{m.group('col')}:" if m.group("col") else ""
                 rest = m.group("rest") if kind == "submission" else self.shorten(m.group("rest"))
                 out.append(f"{shown}:{m.group('line')}:{col}{rest}")
-                continue
-            m = INCLUDED.match(line)
-            if m:
-                quoting = False
-                kind, shown = self.where(m.group("path"))
-                out.append(f"{m.group('lead')} {shown}:{m.group('line')}{m.group('end')}")
                 continue
             m = IN_FUNCTION.match(line)
             if m:

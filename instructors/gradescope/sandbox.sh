@@ -99,20 +99,21 @@ sandbox_probe() {
     >/dev/null 2>&1
 }
 
-# sandbox_end_account ACCOUNT: kills every process of ACCOUNT (again until
-# none is left: a process may fork while it is being killed) and deletes its
-# files in the shared temporary folders.
+# sandbox_end_account ACCOUNT [KEEP]: kills every process of ACCOUNT (again
+# until none is left: a process may fork while it is being killed) and
+# deletes its files in the shared temporary folders, except under KEEP (the
+# sandbox folder, when it is in /tmp).
 sandbox_end_account() {
-  local account=$1 ids uid i left
+  local account=$1 keep=${2:-/nonexistent} ids uid i left
   ids=$(sandbox_account_ids "$account") || return 0
   uid=${ids% *}
   for i in 1 2 3 4 5 6 7 8 9 10; do
-    left=$(awk -v u="$uid" '/^Uid:/ { if ($2 == u || $3 == u) { print FILENAME; exit } }' /proc/[0-9]*/status 2>/dev/null | head -1)
+    # (awk fails on a process that ended while it read /proc: not an error here)
+    left=$({ awk -v u="$uid" '/^Uid:/ { if ($2 == u || $3 == u) { print FILENAME; exit } }' /proc/[0-9]*/status 2>/dev/null || true; } | head -1)
     [ -z "$left" ] && break
     sandbox_as "$account" bash -c 'kill -KILL -1' 2>/dev/null || true
     sleep 0.1
   done
-  find /tmp /var/tmp /dev/shm -xdev -mindepth 1 -user "$uid" -delete 2>/dev/null || true
-  # What -delete could not remove (a folder holding another user's file).
-  find /tmp /var/tmp /dev/shm -xdev -mindepth 1 -user "$uid" -exec rm -rf {} + 2>/dev/null || true
+  find /tmp /var/tmp /dev/shm -xdev -mindepth 1 -path "$keep" -prune -o -user "$uid" -prune -exec rm -rf {} + \
+    2>/dev/null || true
 }

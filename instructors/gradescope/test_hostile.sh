@@ -161,7 +161,9 @@ grade() {
   fi
   rm -rf "$ag/results"
   local args="--timeout-scale $(timeout_scale)"
-  for c in "${public_cases[@]}" "$hidden_case"; do args+=" --case $c"; done
+  for c in "${public_cases[@]}"; do args+=" --case $c"; done
+  # An old package (--package) may have no hidden cases.
+  [ -f "$ag/source/hidden/cases.txt" ] && args+=" --case $hidden_case"
   (cd "$ag" && AUTOGRADER_ROOT=$ag AUTOGRADER_SUBMISSION=$dir/submission GRADER_JOBS=2 \
     BUILD_TIMEOUT=$(scaled_seconds 1200) GRADER_ARGS="$args" ./run_autograder) >"$dir/log.txt" 2>&1 || rc=$?
   cp "$ag/results/results.json" "$dir/results.json" 2>/dev/null || true
@@ -202,7 +204,8 @@ sys.exit(0 if d.get("stdout_visibility") == "hidden" else 1)' "$dir/results.json
   check "$name: no process of the sandbox accounts is left" bash -c '
     for a in pt-build pt-render1 pt-render2; do
       u=$(id -u "$a") || exit 1
-      if awk -v u="$u" "/^Uid:/ { if (\$2 == u) found = 1 } END { exit !found }" /proc/[0-9]*/status 2>/dev/null; then exit 1; fi
+      left=$(awk -v u="$u" "/^Uid:/ { if (\$2 == u || \$3 == u) print FILENAME }" /proc/[0-9]*/status 2>/dev/null || true)
+      [ -z "$left" ] || { echo "  left: $a: $left"; exit 1; }
     done
     ! grep -qx hostile-daemon /proc/[0-9]*/comm 2>/dev/null'
   check "$name: run_autograder says it ran in a sandbox" grep -q "^== Sandbox: \(bwrap\|user\)" "$dir/log.txt"

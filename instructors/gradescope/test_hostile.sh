@@ -259,7 +259,7 @@ step_b() {
   local payload
   payload=$(cat <<EOF
 file(WRITE "$marker" "configure-time code ran\n")
-foreach(g "\${CMAKE_SOURCE_DIR}/../bin/grader" "\${CMAKE_SOURCE_DIR}/../../pt/bin/grader" "$ag/pt/bin/grader" "/autograder/pt/bin/grader")
+foreach(g "\${CMAKE_SOURCE_DIR}/../bin/grader" "\${CMAKE_SOURCE_DIR}/../../pt/bin/grader" "$ag/pt/bin/grader")
   file(WRITE "\${g}" "#!/bin/sh\nfor a; do case \$prev in -o) mkdir -p \$a; printf '{\"score\": 100, \"output\": \"hostile b\"}' >\$a/results.json;; esac; prev=\$a; done\n")
   execute_process(COMMAND chmod 755 "\${g}")
 endforeach()

@@ -125,7 +125,7 @@ def group_line(ignored):
     parts = []
     for reason, paths in groups.items():
         shown = ", ".join(paths[:3]) + (f" and {len(paths) - 3} more" if len(paths) > 3 else "")
-        parts.append(f"{len(paths)} {reason} ({shown})")
+        parts.append(f"{reason}: {shown}")
     return "Ignored from your stages/: " + "; ".join(parts) + "."
 
 

@@ -400,7 +400,10 @@ EOF
   echo "$s" >"$work/scores/h"
   check "h: gains nothing on the hidden case ($sh <= the base's $bh)" \
     python3 -c 'import sys; sys.exit(0 if float(sys.argv[1]) <= float(sys.argv[2]) else 1)' "$sh" "$bh"
-  check "h: the replay was taken (replay_data.h accepted, built)" grep -q "The code graded" "$work/runs/h/results.json"
+  # The trick is live: replay_data.h was taken, and the replay gains on p1_teapot.
+  check "h: replay_data.h was taken (not listed as ignored)" bash -c '! grep -q replay_data.h "$1"' _ "$work/runs/h/results.json"
+  check "h: the replay gains on the public case it carries ($sp > the base's $bp)" \
+    python3 -c 'import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)' "$sp" "$bp"
 }
 
 # ---- --package TREE: scores only, for the before/after table ----

@@ -83,7 +83,7 @@ class Intake(unittest.TestCase):
                      "subfolders", "part1_raytracing/CMakeLists.txt", "part2_bvh/a.cpp"):
             self.assertIn(what, line)
         self.assertNotIn("README.md", line)
-        self.assertIn("2 build files", line)
+        self.assertIn("build files: CMakeLists.txt, part1_raytracing/CMakeLists.txt;", line)
 
     def test_size_limits(self):
         s = f"{self.sub}/stages"

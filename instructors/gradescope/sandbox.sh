@@ -70,9 +70,13 @@ sandbox_bwrap_args() {
 sandbox_run() (
   local mode=$1 account=$2 tree=$3 build=$4 tmp=$5
   shift 5
-  # Limits for the account: processes (a fork bomb), the size of one file.
+  # Limits for the account: processes (a fork bomb), the size of one file,
+  # each process's memory (#include "/dev/zero" makes the compiler read
+  # forever). No input.
   ulimit -S -u 4096 2>/dev/null || true
   ulimit -S -f $((4 * 1024 * 1024)) 2>/dev/null || true
+  ulimit -S -v $((4 * 1024 * 1024)) 2>/dev/null || true
+  exec </dev/null
   case "$mode" in
     bwrap)
       local args

@@ -65,8 +65,12 @@ one_run() {  # one_run MODE ROUND
   (cd "$ag" && AUTOGRADER_ROOT=$ag AUTOGRADER_SUBMISSION=$sub AUTOGRADER_SANDBOX=$mode GRADER_ARGS="$grader_args" \
     ./run_autograder) >"$base/run-$mode-$2.log" 2>&1
   t1=$(date +%s.%N)
-  score=$(python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); print(f"{d[\"score\"]:g} of {sum(t[\"max_score\"] for t in d.get(\"tests\", [])):g}")' \
-    "$ag/results/results.json")
+  score=$(python3 - "$ag/results/results.json" <<'EOF'
+import json, sys
+d = json.load(open(sys.argv[1]))
+print("%g of %g" % (d["score"], sum(t.get("max_score") or 0 for t in d.get("tests", []))))
+EOF
+  )
   times[$mode]+="$(python3 -c "print(f'{$t1 - $t0:.2f}')") "
   printf 'round %d  %-5s %7.2f s  (score %s; %s)\n' "$2" "$mode" "$(python3 -c "print($t1 - $t0)")" "$score" \
     "$(grep -m1 '^== Sandbox' "$base/run-$mode-$2.log" | sed 's/^== //')"

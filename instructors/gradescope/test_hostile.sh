@@ -228,7 +228,7 @@ step_control() {
 import json, sys
 d = json.load(open(sys.argv[1]))
 tests = d.get("tests", [])
-full = sum(t["max_score"] for t in tests)
+full = sum(t.get("max_score") or 0 for t in tests)
 score = d["score"]
 print(f"  control: {score:g} of {full:g} in {len(tests)} tests")
 sys.exit(0 if len(tests) == 3 and full > 0 and abs(d["score"] - full) < 1e-9 else 1)' "$work/runs/control/results.json"

@@ -45,7 +45,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
 . "$root/tests/timeout_scale/timeout_scale.sh"
 public_cases=(p1_teapot p1_empty)
-hidden_case=h1_spheres
+hidden_case=h1_cow
 all_steps=(prepare control base a b c d e f g h)
 
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; exit 2; }
@@ -104,10 +104,10 @@ step_prepare() {
   rm -rf "$agbase" "$work/hidden" "$work/reference_work" "$work/runs" "$work/scores"
   mkdir -p "$agbase" "$work/scores"
   chmod 0711 "$agbase"
-  # A hidden case: the spheres at the teapot's size (a replayed public
-  # reference of that size is the wrong picture).
+  # A hidden case: the cow at a size no public case has (the public
+  # references are of no use for it), which an upside-down camera fails.
   mkdir -p "$work/hidden"
-  printf '# Hidden cases of the hostile-submission test (%s)\n%-12s 1 image 1 30 CBspheres_lambertian.dae -r 64 48\n' \
+  printf '# Hidden cases of the hostile-submission test (%s)\n%-12s 1 image 1 60 cow.dae -r 80 60\n' \
     "$canary" "$hidden_case" >"$work/hidden/cases.txt"
   "$ref_grader" make-references --pathtracer "$ref_pathtracer" --runs 2 --case "$hidden_case" \
     --cases "$work/hidden/cases.txt" --scenes "$root/scenes" --references "$work/hidden/references" \
@@ -227,8 +227,8 @@ step_control() {
   check "control: full marks on the public cases and the hidden one" python3 -c '
 import json, sys
 d = json.load(open(sys.argv[1]))
-tests = d.get("tests", [])
-full = sum(t.get("max_score") or 0 for t in tests)
+tests = [t for t in d.get("tests", []) if t.get("max_score") is not None]  # not the staff-only lines
+full = sum(t["max_score"] for t in tests)
 score = d["score"]
 print(f"  control: {score:g} of {full:g} in {len(tests)} tests")
 sys.exit(0 if len(tests) == 3 and full > 0 and abs(d["score"] - full) < 1e-9 else 1)' "$work/runs/control/results.json"
@@ -241,7 +241,7 @@ step_base() {
   scores "$work/runs/base/results.json" >"$work/scores/base"
   check "base: graded (3 tests)" python3 -c '
 import json, sys
-sys.exit(0 if len(json.load(open(sys.argv[1])).get("tests", [])) == 3 else 1)' "$work/runs/base/results.json"
+sys.exit(0 if len([t for t in json.load(open(sys.argv[1])).get("tests", []) if t.get("max_score") is not None]) == 3 else 1)' "$work/runs/base/results.json"
   echo "  base: scores (total public hidden) $(cat "$work/scores/base")"
 }
 
@@ -326,7 +326,7 @@ step_f() {
   # The daemon had ten minutes to live: killed, results.json is the grader's.
   check "f: results.json is the grader's (3 tests)" python3 -c '
 import json, sys
-sys.exit(0 if len(json.load(open(sys.argv[1])).get("tests", [])) == 3 else 1)' "$ag/results/results.json"
+sys.exit(0 if len([t for t in json.load(open(sys.argv[1])).get("tests", []) if t.get("max_score") is not None]) == 3 else 1)' "$ag/results/results.json"
 }
 
 step_g() {

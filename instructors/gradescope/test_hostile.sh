@@ -32,7 +32,7 @@
 #             replayed at exit: it gains p1_teapot's point (a public case
 #             cannot defeat it) and nothing on the hidden case
 #
-# Graded cases: p1_teapot and p1_empty (public) and one hidden case, h1_spheres.
+# Graded cases: p1_teapot and p1_empty (public) and one hidden case, h1_cow.
 # --package TREE: the package of another checkout (e.g. main before this
 # sandbox), no assertions: each submission's score and what it did go to
 # FILE (the README's before/after table); the autograder is restored from a

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -71,6 +72,7 @@ std::vector<Case> read_cases(const std::string& path) {
     if (f.size() < 6) fail("expected: name part kind points timeout scene [options...]");
     Case c;
     c.line = number;
+    c.files_dir = std::filesystem::absolute(std::filesystem::path(path)).parent_path().string();
     c.name = f[0];
     if (!valid_name(c.name)) fail("case name '" + c.name + "' must be letters, digits, _ or -");
     if (!names.insert(c.name).second) fail("duplicate case name '" + c.name + "'");

@@ -23,6 +23,13 @@ struct Case {
   std::string scene;                // relative to the scenes folder
   std::vector<std::string> options; // pathtracer options (no output flags)
   int line = 0;                     // in the case file, for messages
+  // The case list's folder: files that options name (-c, -e) are looked up
+  // here first, then beside the scenes.
+  std::string files_dir;
+  // A hidden case (grader run --hidden-cases): graded like the others, but
+  // students see only its part's total and its verdict, never its name or
+  // settings; its reference lies apart (--hidden-references).
+  bool hidden = false;
 };
 
 const char* kind_name(CaseKind kind);

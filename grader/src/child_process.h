@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+
 namespace grader {
 
 struct Limits {
@@ -19,7 +20,20 @@ struct Limits {
   // ("TODO: implement Part 3: ..."), so that an unfinished build is not
   // left to run into the timeout.
   std::function<bool(const std::string& line)> stop_on_stderr;
+  // When >= 0 (the grader runs as root): the child drops to this user and
+  // group (no supplementary groups) before it runs anything, may not gain
+  // privileges again (no set-user-ID programs), and may have at most
+  // kMaxProcesses processes of that user at a time.
+  int run_uid = -1, run_gid = -1;
+  // The child gets an environment of PATH alone instead of the grader's.
+  bool clear_environment = false;
+  // The child (and all it starts) may not open an IPv4 or IPv6 socket: a
+  // seccomp filter answers socket(AF_INET/AF_INET6, ...) with EACCES. For
+  // a sandbox without a network namespace (sandbox.h, mode User).
+  bool no_network = false;
 };
+
+constexpr int kMaxProcesses = 512;
 
 struct ChildResult {
   bool started = false;     // false: fork or exec failed (see `error`)

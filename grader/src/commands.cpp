@@ -1,6 +1,7 @@
 #include "grader/src/commands.h"
 
 #include <CLI/CLI.hpp>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -44,6 +45,18 @@ void Common::add_to(CLI::App* app, bool with_binary) {
       ->check(CLI::Range(0.01, 1000.0))->capture_default_str();
   app->add_option("--memory-mb", memory_mb, "Address-space limit per render")->check(CLI::Range(64, 1 << 20))->capture_default_str();
   app->add_option("--output-mb", output_mb, "Output-size limit per render")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  app->add_option("--hidden-cases", hidden_cases, "A second case list, graded after --cases and shown without names");
+  app->add_option("--hidden-references", hidden_references,
+                  "The hidden cases' references (default: references/ beside --hidden-cases)");
+}
+
+void Common::add_sandbox_to(CLI::App* app) {
+  app->add_option("--sandbox", sandbox, "Where renders run: none, bwrap (bubblewrap namespaces) or user (an account alone)")
+      ->check(CLI::IsMember({"none", "bwrap", "user"}))
+      ->capture_default_str();
+  app->add_option("--sandbox-user", sandbox_users,
+                  "Unprivileged accounts to render as, one per job (comma-separated; needed as root)");
+  app->add_option("--sandbox-tmp", sandbox_tmp, "Where each render's staging folder is made")->capture_default_str();
 }
 
 RunSettings Common::run_settings() const {
@@ -54,15 +67,47 @@ RunSettings Common::run_settings() const {
   s.timeout_scale = timeout_scale;
   s.memory_bytes = uint64_t(memory_mb) << 20;
   s.output_bytes = uint64_t(output_mb) << 20;
+  parse_sandbox_mode(sandbox, &s.sandbox.mode);
+  if (s.sandbox.on()) s.sandbox.accounts = lookup_accounts(sandbox_users);
+  s.sandbox.root = sandbox_tmp;
   return s;
 }
 
-std::vector<Case> Common::select() const {
+std::string Common::hidden_reference_root() const {
+  if (!hidden_references.empty()) return hidden_references;
+  return (fs::absolute(fs::path(hidden_cases)).parent_path() / "references").string();
+}
+
+std::string Common::references_for(const Case& c) const { return c.hidden ? hidden_reference_root() : references; }
+
+std::vector<Case> Common::all_cases() const {
   std::vector<Case> all = read_cases(cases);
+  if (hidden_cases.empty()) return all;
+  std::set<std::string> names;
+  for (const Case& c : all) names.insert(c.name);
+  for (Case c : read_cases(hidden_cases)) {
+    if (!names.insert(c.name).second)
+      throw std::runtime_error(hidden_cases + ":" + std::to_string(c.line) + ": case " + c.name +
+                               " is in " + cases + " too");
+    c.hidden = true;
+    all.push_back(c);
+  }
+  return all;
+}
+
+Rules Common::rules() const {
+  std::vector<Case> shown, hidden;
+  for (const Case& c : all_cases()) (c.hidden ? hidden : shown).push_back(c);
+  return make_rules(shown, references, hidden, hidden_cases.empty() ? "" : hidden_reference_root());
+}
+
+std::vector<Case> Common::select() const {
+  std::vector<Case> all = all_cases();
   std::set<std::string> known;
   for (const Case& c : all) known.insert(c.name);
   for (const std::string& n : names)
-    if (!known.count(n)) throw std::runtime_error(cases + ": no case named '" + n + "'");
+    if (!known.count(n))
+      throw std::runtime_error(cases + (hidden_cases.empty() ? "" : " and " + hidden_cases) + ": no case named '" + n + "'");
   std::vector<Case> chosen;
   for (const Case& c : all) {
     if (!parts.empty() && std::find(parts.begin(), parts.end(), c.part) == parts.end()) continue;
@@ -116,17 +161,27 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
   const std::vector<Case> cases = common.select();
   common.check_binary();
   fs::create_directories(out + "/cases");
+  const RunSettings run = common.run_settings();
+  if (run.sandbox.on()) {
+    // Renders run as other accounts: the output folder must hide the other
+    // cases' renders and the reports from them (and from the world).
+    if (geteuid() == 0 && chmod(out.c_str(), 0700) != 0)
+      throw std::runtime_error(out + ": cannot make it readable by root only");
+    std::vector<std::string> secrets = {common.cases, common.references, fs::absolute(out).string(),
+                                        executable_dir() + "/grader"};
+    if (!common.hidden_cases.empty()) secrets.insert(secrets.end(), {common.hidden_cases, common.hidden_reference_root()});
+    check_sandbox(run.sandbox, common.jobs, secrets);
+  }
   std::vector<CaseResult> results(cases.size());
   std::mutex mu;
   int done = 0;
-  const RunSettings run = common.run_settings();
-  const Rules rules = make_rules(read_cases(common.cases), common.references);
+  const Rules rules = common.rules();
   parallel_for(int(cases.size()), common.jobs, [&](int i) {
     const Case& c = cases[size_t(i)];
     const std::string dir = out + "/cases/" + c.name;
     CaseResult r;
     try {
-      r = grade_case(run, common.references, c, seed, dir, rules);
+      r = grade_case(run, common.references_for(c), c, seed, dir, rules);
     } catch (const std::exception& e) {
       r.c = c;
       r.max_score = c.points;

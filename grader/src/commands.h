@@ -13,7 +13,9 @@
 #include "grader/src/case_list.h"
 #include "grader/src/case_result.h"
 #include "grader/src/hints.h"
+#include "grader/src/rules.h"
 #include "grader/src/run_case.h"
+#include "grader/src/sandbox.h"
 
 // CLI11 is included only where the command line is built (main.cpp and
 // commands.cpp): it is the slowest header of the grader to compile.
@@ -45,22 +47,45 @@ struct Common {
   double timeout_scale = 1.0;
   int memory_mb = 4096;
   int output_mb = 256;
+  // Hidden cases (the Gradescope package's): graded after the case list's,
+  // shown to students without names or settings.
+  std::string hidden_cases;
+  std::string hidden_references;  // default: `references/` beside hidden_cases
+  // Where renders run (sandbox.h).
+  std::string sandbox = "none";
+  std::vector<std::string> sandbox_users;
+  std::string sandbox_tmp = "/tmp";
 
   void add_to(CLI::App* app, bool with_binary);
+  // --sandbox, --sandbox-user, --sandbox-tmp (grader run only).
+  void add_sandbox_to(CLI::App* app);
   RunSettings run_settings() const;
-  // The selected cases. Throws std::runtime_error on a bad file or filter.
+  // The selected cases (the hidden ones last, marked hidden). Throws
+  // std::runtime_error on a bad file or filter.
   std::vector<Case> select() const;
+  // Every case of the case list and of the hidden list, whatever a run
+  // selects.
+  std::vector<Case> all_cases() const;
+  // The reference folder of a case.
+  std::string references_for(const Case& c) const;
+  // The hidden references' folder.
+  std::string hidden_reference_root() const;
+  // The grading rules for all_cases().
+  Rules rules() const;
   // Throws std::runtime_error when --pathtracer is not an executable file.
   void check_binary() const;
 };
 
 // Runs `task(i)` for i in [0, n) on `jobs` threads.
+// Each thread is a job slot (set_job_slot): a sandboxed render runs as
+// its slot's account.
 template <class F>
 void parallel_for(int n, int jobs, F task) {
   std::atomic<int> next{0};
   std::vector<std::thread> pool;
   for (int j = 0; j < std::max(1, std::min(jobs, n)); ++j)
-    pool.emplace_back([&] {
+    pool.emplace_back([&, j] {
+      set_job_slot(j);
       for (int i; (i = next.fetch_add(1)) < n;) task(i);
     });
   for (auto& t : pool) t.join();

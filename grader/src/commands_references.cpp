@@ -23,12 +23,14 @@ int command_make_references(const Common& common, int runs, bool force, int reti
   ms.commit = git_commit();
   ms.work_dir = work;
   fs::create_directories(work);
-  fs::create_directories(common.references);
   int failures = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
+    // A hidden case's reference goes with the hidden list (--hidden-cases).
+    const std::string root = common.references_for(cases[i]);
+    fs::create_directories(root);
     std::string message;
-    const bool ok = retime > 0 ? retime_reference(common.references, cases[i], ms, retime, &message)
-                               : make_reference(common.references, cases[i], ms, &message);
+    const bool ok = retime > 0 ? retime_reference(root, cases[i], ms, retime, &message)
+                               : make_reference(root, cases[i], ms, &message);
     failures += !ok;
     std::printf("[%2zu/%zu] %-24s %s%s\n", i + 1, cases.size(), cases[i].name.c_str(), ok ? "" : "FAILED: ",
                 message.c_str());

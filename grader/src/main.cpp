@@ -38,6 +38,7 @@ struct Options {
 CLI::App* add_run(CLI::App& app, Common& common, Options& o) {
   CLI::App* run = app.add_subcommand("run", "Grade a build: render every case, score, write the reports");
   common.add_to(run, true);
+  common.add_sandbox_to(run);
   run->add_option("-o,--out", o.out, "Output folder")->capture_default_str();
   run->add_option("--seed", o.seed, "Seed of the candidate's renders")->capture_default_str();
   run->add_flag("-q,--quiet", o.quiet, "No line per case while grading");

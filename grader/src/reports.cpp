@@ -1,6 +1,7 @@
 #include "grader/src/reports.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -177,41 +178,165 @@ std::string timing_tables(const std::vector<CaseResult>& rs) {
   return s.str();
 }
 
-std::string gradescope_json(const std::vector<CaseResult>& rs, const RunInfo& info) {
+namespace {
+
+// "a hidden case of part 3" for a hidden case's name.
+std::string hidden_label(const CaseResult& r) { return "a hidden case of part " + std::to_string(r.c.part); }
+
+// Text shown to students with every hidden case's name replaced by
+// hidden_label().
+std::string without_hidden_names(std::string text, const std::vector<CaseResult>& rs) {
+  for (const CaseResult& r : rs) {
+    if (!r.c.hidden) continue;
+    for (size_t at; (at = text.find(r.c.name)) != std::string::npos;) text.replace(at, r.c.name.size(), hidden_label(r));
+  }
+  return text;
+}
+
+// A hidden case's verdict for students: its message with the case's
+// settings taken out (an option and its values, the scene, the files it
+// names) and no figures line, command or render output.
+std::string hidden_verdict(const CaseResult& r) {
+  std::string m = r.message;
+  const auto erase_all = [&m](const std::string& what) {
+    if (what.empty()) return;
+    for (size_t at; (at = m.find(what)) != std::string::npos;) m.replace(at, what.size(), "...");
+  };
+  erase_all(r.c.scene);
+  for (size_t i = 0; i < r.c.options.size(); ++i) {
+    if (r.c.options[i].empty() || r.c.options[i][0] != '-') continue;
+    std::string flag = r.c.options[i];
+    size_t j = i + 1;
+    for (; j < r.c.options.size() && !(r.c.options[j][0] == '-' && !std::isdigit((unsigned char)r.c.options[j][1])); ++j)
+      flag += " " + r.c.options[j];
+    erase_all(flag);
+    for (size_t k = i + 1; k < j; ++k)
+      if (r.c.options[k].find('.') != std::string::npos && !std::isdigit((unsigned char)r.c.options[k][0]))
+        erase_all(r.c.options[k]);  // a file name
+  }
+  return std::string(verdict_name(r.verdict)) + ": " + m;
+}
+
+Json extra_data(const CaseResult& r) {
   using pt::json_real;
-  using pt::json_text;
+  Json extra = pt::json_object(true);
+  extra.set("case", pt::json_text(r.c.name))
+      .set("hidden", pt::json_bool(r.c.hidden))
+      .set("score", json_real(r.score))
+      .set("max_score", json_real(r.max_score))
+      .set("seconds", json_real(r.seconds))
+      .set("render_seconds", json_real(r.render_seconds))
+      .set("reference_seconds", json_real(r.reference_seconds))
+      .set("speed_ratio", json_real(r.speed_ratio))
+      .set("relmse", json_real(r.relmse))
+      .set("tests_per_ray", json_real(r.tests_per_ray));
+  return extra;
+}
+
+// A case's whole output: verdict, figures, command, the render's output.
+std::string case_output(const CaseResult& r) {
+  std::string output = std::string(verdict_name(r.verdict)) + ": " + r.message;
+  if (!r.metric.empty()) output += "\n" + r.metric;
+  output += "\nCommand: " + r.command;
+  if (r.verdict != Verdict::Passed && !r.log.empty()) output += "\nOutput of the render:\n" + r.log;
+  return output;
+}
+
+Json test_json(const std::string& name, const std::string& number, const std::string& output, const char* visibility,
+               const Json& extra) {
+  Json test = pt::json_object();
+  test.set("name", pt::json_text(name))
+      .set("number", pt::json_text(number))
+      .set("output", pt::json_text(output))
+      .set("visibility", pt::json_text(visibility))
+      .set("extra_data", extra);
+  return test;
+}
+
+void set_score(Json& test, double score, double max_score) {
+  test.set("score", pt::json_real(score))
+      .set("max_score", pt::json_real(max_score))
+      .set("status", pt::json_text(score >= max_score - 1e-9 ? "passed" : "failed"));
+}
+
+}  // namespace
+
+std::string gradescope_json(const std::vector<CaseResult>& rs, const RunInfo& info) {
   std::vector<Json> tests;
+  // The cases students may see, one test each.
   for (size_t i = 0; i < rs.size(); ++i) {
     const CaseResult& r = rs[i];
-    std::string output = std::string(verdict_name(r.verdict)) + ": " + r.message;
-    if (!r.metric.empty()) output += "\n" + r.metric;
-    output += "\nCommand: " + r.command;
-    if (r.verdict != Verdict::Passed && !r.log.empty()) output += "\nOutput of the render:\n" + r.log;
-    Json extra = pt::json_object(true);
-    extra.set("seconds", json_real(r.seconds))
-        .set("render_seconds", json_real(r.render_seconds))
-        .set("reference_seconds", json_real(r.reference_seconds))
-        .set("speed_ratio", json_real(r.speed_ratio))
-        .set("relmse", json_real(r.relmse))
-        .set("tests_per_ray", json_real(r.tests_per_ray));
-    Json test = pt::json_object();
-    test.set("name", json_text("Part " + std::to_string(r.c.part) + ": " + r.c.name))
-        .set("number", json_text(std::to_string(r.c.part) + "." + std::to_string(i + 1)))
-        .set("score", json_real(r.score))
-        .set("max_score", json_real(r.max_score))
-        .set("status", json_text(r.verdict == Verdict::Passed ? "passed" : "failed"))
-        .set("output", json_text(output))
-        .set("visibility", json_text("visible"))
-        .set("extra_data", extra);
+    if (r.c.hidden) continue;
+    Json test = test_json("Part " + std::to_string(r.c.part) + ": " + r.c.name,
+                          std::to_string(r.c.part) + "." + std::to_string(i + 1), case_output(r), "visible",
+                          extra_data(r));
+    set_score(test, r.score, r.max_score);
+    test.set("status", pt::json_text(r.verdict == Verdict::Passed ? "passed" : "failed"));
     tests.push_back(test);
   }
+  // The hidden cases: per part, one visible test with their total and each
+  // one's verdict (no name, no settings); per case, one test for the staff
+  // only, with everything.
+  std::map<int, std::vector<const CaseResult*>> hidden;
+  std::map<int, double> shown_lost;
+  for (const CaseResult& r : rs) {
+    if (r.c.hidden) hidden[r.c.part].push_back(&r);
+    else if (r.verdict != Verdict::Passed) shown_lost[r.c.part] += 1;
+  }
+  std::vector<std::string> staff_notes;
+  for (const auto& [part, list] : hidden) {
+    double score = 0, max_score = 0;
+    std::string output;
+    bool all_passed = true;
+    for (size_t k = 0; k < list.size(); ++k) {
+      const CaseResult& r = *list[k];
+      score += r.score;
+      max_score += r.max_score;
+      all_passed = all_passed && r.verdict == Verdict::Passed;
+      output += "Hidden case " + std::to_string(k + 1) + ": " + fmt("%.2f", r.score) + "/" + fmt("%g", r.max_score) +
+                ", " + without_hidden_names(hidden_verdict(r), rs) + "\n";
+    }
+    output = "Cases the starter kit does not have (other viewpoints, scenes and settings), graded by the same rules.\n" +
+             output;
+    Json extra = pt::json_object(true);
+    extra.set("hidden", pt::json_bool(true)).set("part", pt::json_real(part)).set("cases", pt::json_real(double(list.size())));
+    Json test = test_json("Part " + std::to_string(part) + ": hidden cases (" + std::to_string(list.size()) + ")",
+                          std::to_string(part) + ".99", output, "visible", extra);
+    set_score(test, score, max_score);
+    test.set("status", pt::json_text(all_passed ? "passed" : "failed"));
+    tests.push_back(test);
+    if (!shown_lost.count(part) && max_score > 0 && score < 0.5 * max_score)
+      staff_notes.push_back("Part " + std::to_string(part) + ": every public case passes, but the hidden cases score " +
+                            fmt("%.2f", score) + " of " + fmt("%g", max_score) +
+                            " (a build that fits the public cases only, or replays their references?)");
+  }
+  for (const CaseResult& r : rs) {
+    if (!r.c.hidden) continue;
+    Json test = test_json("Staff only: part " + std::to_string(r.c.part) + " hidden case " + r.c.name,
+                          std::to_string(r.c.part) + ".h", case_output(r), "hidden", extra_data(r));
+    test.set("status", pt::json_text(r.verdict == Verdict::Passed ? "passed" : "failed"));
+    tests.push_back(test);
+  }
+  if (!staff_notes.empty()) {
+    std::string text;
+    for (const std::string& n : staff_notes) text += n + "\n";
+    Json extra = pt::json_object(true);
+    extra.set("staff_note", pt::json_bool(true));
+    Json note = test_json("Staff note", "0.0", text, "hidden", extra);
+    tests.push_back(note);
+  }
+  const bool any_hidden = !hidden.empty();
+  const std::string findings = findings_text(rs, info.hints);
   Json results = pt::json_object();
-  results.set("score", json_real(total(rs, false)))
-      .set("output", json_text("Graded " + std::to_string(rs.size()) + " cases in " + fmt("%.0f", info.wall_seconds) +
-                               " s." + (findings_text(rs, info.hints).empty() ? std::string()
-                                                                              : "\n" + findings_text(rs, info.hints))))
-      .set("visibility", json_text("visible"))
-      .set("stdout_visibility", json_text("visible"))
+  results.set("score", pt::json_real(total(rs, false)))
+      .set("output", pt::json_text(without_hidden_names(
+          "Graded " + std::to_string(rs.size()) + " cases in " + fmt("%.0f", info.wall_seconds) + " s." +
+              (findings.empty() ? std::string() : "\n" + findings),
+          rs)))
+      .set("visibility", pt::json_text("visible"))
+      // The grader's console names every case: hidden from students when
+      // some cases are.
+      .set("stdout_visibility", pt::json_text(any_hidden ? "hidden" : "visible"))
       .set("tests", pt::json_array(tests));
   return pt::write_json(results);
 }

@@ -33,17 +33,34 @@ std::map<std::string, QueryCosts> read_plain_bvh_costs(const std::string& path) 
   return out;
 }
 
-Rules make_rules(const std::vector<Case>& all, const std::string& references) {
-  Rules r;
+namespace {
+
+// How many Monte Carlo images the cases score (a rate case scores two).
+int scored_images(const std::vector<Case>& cases, const std::string& references) {
   int scored = 0;
-  for (const Case& c : all) {
+  for (const Case& c : cases) {
     Reference ref;
     std::string why;
     const bool deterministic = load_reference(references, c, &ref, &why) && ref.deterministic;
     if (!deterministic) scored += c.kind == CaseKind::Rate ? 2 : 1;
   }
-  r.scored_images = std::max(1, scored);
+  return scored;
+}
+
+}  // namespace
+
+Rules make_rules(const std::vector<Case>& all, const std::string& references) {
+  return make_rules(all, references, {}, "");
+}
+
+Rules make_rules(const std::vector<Case>& all, const std::string& references, const std::vector<Case>& hidden,
+                 const std::string& hidden_references) {
+  Rules r;
+  r.scored_images = std::max(1, scored_images(all, references) + scored_images(hidden, hidden_references));
   r.plain_bvh = read_plain_bvh_costs(references + "/plain_bvh_costs.json");
+  if (!hidden_references.empty())
+    for (const auto& [name, costs] : read_plain_bvh_costs(hidden_references + "/plain_bvh_costs.json"))
+      r.plain_bvh[name] = costs;
   return r;
 }
 

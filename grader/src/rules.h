@@ -52,6 +52,10 @@ struct Rules {
 // which others are graded beside it) and the references in `references`.
 // A case without a usable reference counts as a scored Monte Carlo image.
 Rules make_rules(const std::vector<Case>& all, const std::string& references);
+// The same with hidden cases besides, whose references (and plain BVH
+// costs) are in `hidden_references`.
+Rules make_rules(const std::vector<Case>& all, const std::string& references, const std::vector<Case>& hidden,
+                 const std::string& hidden_references);
 
 // Reads a plain BVH's costs per case: {"cases": {"name": {"closest_tests_per_query": x,
 // "shadow_tests_per_query": y}, ...}}. Missing file: no entries.

@@ -87,24 +87,26 @@ bool size_matches(const ImageBuffer& img, int w, int h, const std::string& what,
   return false;
 }
 
-// The command line of a render of `c` into `abs_dir`.
+// The command line of a render of `c` by `binary` into `out_dir`, with each
+// input file (case_input_files) given as `path_of(file)`.
+template <class PathOf>
 std::vector<std::string> render_argv(const RunSettings& s, const Case& c, int part, uint64_t seed,
-                                     const std::string& abs_dir) {
-  std::vector<std::string> argv = {fs::absolute(s.pathtracer).string(), "--part", std::to_string(part)};
-  // Files named by options (-e environment map, -c camera settings) live
-  // beside the scenes, like the scene itself.
+                                     const std::string& binary, const std::string& out_dir, PathOf path_of) {
+  const std::vector<std::string> inputs = case_input_files(s, c);
+  std::vector<std::string> argv = {binary, "--part", std::to_string(part)};
+  size_t next_input = 1;  // inputs[0] is the scene
   for (size_t i = 0; i < c.options.size(); ++i) {
     const bool names_file = i > 0 && (c.options[i - 1] == "-e" || c.options[i - 1] == "-c");
-    const fs::path value(c.options[i]);
-    argv.push_back(names_file && value.is_relative() ? fs::absolute(fs::path(s.scenes_dir) / value).string()
-                                                     : c.options[i]);
+    argv.push_back(names_file && next_input < inputs.size() ? path_of(inputs[next_input++]) : c.options[i]);
   }
   argv.insert(argv.end(), {"-t", std::to_string(s.threads)});
-  argv.insert(argv.end(), {"--seed", std::to_string(seed), "--no-progress", "-f", abs_dir + "/render.png", "--pfm",
-                           abs_dir + "/render.pfm", "--stats-json", abs_dir + "/stats.json",
-                           fs::absolute(fs::path(s.scenes_dir) / c.scene).string()});
+  argv.insert(argv.end(), {"--seed", std::to_string(seed), "--no-progress", "-f", out_dir + "/render.png", "--pfm",
+                           out_dir + "/render.pfm", "--stats-json", out_dir + "/stats.json", path_of(inputs[0])});
   return argv;
 }
+
+// The files the grader reads back from a render's folder.
+const std::vector<std::string> kRenderFiles = {"render.png", "render.pfm", "render_rate.png", "stats.json"};
 
 // Each step below checks one thing about a render's files; false with
 // *failure set when it is wrong.
@@ -123,7 +125,7 @@ bool output_within_limit(const RunSettings& s, const std::string& abs_dir, std::
 // one writes would block the grader forever.
 bool present(const std::string& path, const std::string& name, const std::string& flag, std::string* failure) {
   std::error_code st_ec;
-  const fs::file_status st = fs::status(path, st_ec);
+  const fs::file_status st = fs::symlink_status(path, st_ec);  // a link is not the render's file
   if (!fs::exists(st)) *failure = "wrote no " + name + " (" + flag + ")";
   else if (!fs::is_regular_file(st)) *failure = "the " + name + " (" + flag + ") is not a regular file";
   return fs::is_regular_file(st);
@@ -228,6 +230,20 @@ bool read_outputs(const RunSettings& s, const Case& c, const std::string& abs_di
 
 }  // namespace
 
+std::vector<std::string> case_input_files(const RunSettings& s, const Case& c) {
+  std::vector<std::string> files = {fs::absolute(fs::path(s.scenes_dir) / c.scene).string()};
+  for (size_t i = 1; i < c.options.size(); ++i) {
+    if (c.options[i - 1] != "-e" && c.options[i - 1] != "-c") continue;
+    const fs::path value(c.options[i]);
+    std::error_code ec;
+    if (value.is_absolute()) files.push_back(value.string());
+    else if (!c.files_dir.empty() && fs::exists(fs::path(c.files_dir) / value, ec))
+      files.push_back(fs::absolute(fs::path(c.files_dir) / value).string());
+    else files.push_back(fs::absolute(fs::path(s.scenes_dir) / value).string());
+  }
+  return files;
+}
+
 RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t seed, const std::string& dir,
                          bool want_rate) {
   RenderOutput out;
@@ -239,14 +255,42 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
     return out;
   }
   const std::string abs_dir = fs::absolute(dir).string();
-  const std::vector<std::string> argv = render_argv(s, c, part, seed, abs_dir);
+  const std::string binary = fs::absolute(s.pathtracer).string();
+  Staging staging;
+  const Account* account = s.sandbox.account();
+  std::vector<std::string> argv;
+  if (s.sandbox.on()) {
+    std::vector<std::string> inputs = case_input_files(s, c);
+    inputs.insert(inputs.begin(), binary);
+    std::string why;
+    if (!staging.stage(s.sandbox, account, inputs, &why)) {
+      out.failure = "grader error: " + why;
+      return out;
+    }
+    const auto inside = [&](const std::string& f) { return staging.input_path(f); };
+    argv = staging.command(render_argv(s, c, part, seed, inside(binary), staging.out_path(), inside));
+  } else {
+    argv = render_argv(s, c, part, seed, binary, abs_dir, [](const std::string& f) { return f; });
+  }
   Limits limits;
   limits.wall_seconds = c.timeout_seconds * s.timeout_scale;
   limits.cpu_seconds = limits.wall_seconds * (s.threads + 1);
   limits.memory_bytes = s.memory_bytes;
   limits.file_bytes = s.output_bytes;
   limits.stop_on_stderr = [part](const std::string& line) { return todo_dooms(todo_part(line), part); };
-  out.child = run_child(argv, abs_dir, abs_dir + "/stdout.txt", abs_dir + "/stderr.txt", limits);
+  if (account) limits.run_uid = int(account->uid), limits.run_gid = int(account->gid);
+  limits.clear_environment = s.sandbox.on();
+  limits.no_network = s.sandbox.mode == SandboxMode::User;  // bwrap's has no network at all
+  out.child = run_child(argv, s.sandbox.on() ? staging.workdir() : abs_dir, abs_dir + "/stdout.txt",
+                        abs_dir + "/stderr.txt", limits);
+  if (account) kill_account_processes(*account);  // whatever it left running
+  std::vector<std::string> refused;
+  if (s.sandbox.on()) {
+    if (directory_bytes(staging.workdir()) > s.output_bytes)
+      refused.push_back("its folder (more than the output limit)");
+    else
+      staging.collect(kRenderFiles, abs_dir, s.output_bytes, &refused);
+  }
   out.seconds = out.child.seconds;
   out.log = log_excerpt(abs_dir);
   out.todo = todo_lines(abs_dir + "/stderr.txt");
@@ -254,6 +298,11 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
 
   if (!out.child.started || out.child.timed_out || out.child.signal != 0 || out.child.exit_code != 0) {
     out.failure = describe(out.child, limits);
+    return out;
+  }
+  if (!refused.empty()) {
+    out.failure = "wrote " + refused[0] + " as something else than a file of its own (a link, a folder, a file linked "
+                  "elsewhere or too large): not read";
     return out;
   }
   out.ok = read_outputs(s, c, abs_dir, want_rate, &out);

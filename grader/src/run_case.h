@@ -9,6 +9,7 @@
 #include "grader/src/case_list.h"
 #include "grader/src/child_process.h"
 #include "common/json.h"
+#include "grader/src/sandbox.h"
 #include "grader/src/scoring.h"
 
 namespace grader {
@@ -22,6 +23,7 @@ struct RunSettings {
   double timeout_scale = 1.0;  // multiplies each case's timeout
   uint64_t memory_bytes = 4ull << 30;
   uint64_t output_bytes = 256ull << 20;  // per file and for the folder
+  Sandbox sandbox;             // where each render runs (sandbox.h)
 };
 
 struct RenderOutput {
@@ -58,8 +60,15 @@ int case_int_option(const Case& c, const std::string& flag, int fallback);
 // missing (tests per ray: "primitive_tests" / "rays").
 double stat_ratio(const Json& stats, const char* num, const char* den);
 
+// The files a render of `c` reads: the scene, then each file its options
+// name (-c camera settings, -e environment map), as paths the grader can
+// open. Relative option files are looked up beside the case list
+// (c.files_dir) first, then beside the scenes.
+std::vector<std::string> case_input_files(const RunSettings& s, const Case& c);
+
 // Renders `c` with --part `part` and seed `seed` into `dir` (created,
-// emptied first). A render that prints a TODO line that dooms a case of
+// emptied first). With a sandbox (s.sandbox), the render runs in it and only
+// its image files and statistics come back into `dir`. A render that prints a TODO line that dooms a case of
 // part `part` is stopped there (its failure says so). Never throws: every problem becomes
 // `failure`.
 RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t seed, const std::string& dir,

@@ -1,0 +1,167 @@
+#!/usr/bin/env bash
+# The grader's render sandbox against a hostile "pathtracer": a script that,
+# instead of rendering, tries what a submission that wants the answer key
+# would try, and prints what it managed. Graded with `grader run --sandbox
+# MODE` on one case whose case list, references and output folder are
+# readable by root only (as the Gradescope package keeps them), then:
+#   - nothing it printed shows a reference, the case list or a leak marker;
+#   - it wrote nothing outside its own folder (output folder, references);
+#   - the daemon it started is gone;
+#   - the connection it tried to a port open on loopback never arrived;
+#   - the reference it offered as its image through a link was not read;
+#   - the reference pathtracer still passes the case through the same sandbox.
+#
+#   sandbox_attacks.sh GRADER PATHTRACER SOURCE_DIR MODE WORK
+#
+# MODE is bwrap or user. As root it renders as two accounts made here
+# (pt-sbxtest1, pt-sbxtest2); mode user needs root. Exits 77 (skipped) with
+# the reason when the machine cannot run the mode.
+set -uo pipefail
+grader=$1 pathtracer=$2 src=$3 mode=$4 work=$5
+
+skip() { echo "SKIPPED: $*"; exit 77; }
+failures=0
+check() {  # check DESCRIPTION COMMAND...
+  local what=$1
+  shift
+  if "$@"; then echo "ok: $what"; else echo "FAILED: $what"; failures=$((failures + 1)); fi
+}
+
+command -v python3 >/dev/null || skip "python3 is not installed (the loopback listener is a python3 script)"
+if [ "$mode" = bwrap ]; then
+  command -v bwrap >/dev/null || skip "bubblewrap (bwrap) is not installed: apt-get install bubblewrap"
+  bwrap --unshare-all --ro-bind /usr /usr --symlink usr/lib64 /lib64 --symlink usr/lib /lib --symlink usr/bin /bin \
+    -- /usr/bin/true 2>/dev/null || skip "bwrap cannot make namespaces here (user namespaces not allowed?)"
+fi
+accounts=()
+if [ "$(id -u)" = 0 ]; then
+  for a in pt-sbxtest1 pt-sbxtest2; do
+    id "$a" >/dev/null 2>&1 || useradd --system --no-create-home --shell /usr/sbin/nologin "$a" 2>/dev/null ||
+      skip "cannot create the account $a (useradd failed)"
+  done
+  accounts=(--sandbox-user pt-sbxtest1,pt-sbxtest2)
+elif [ "$mode" = user ]; then
+  skip "--sandbox user renders as other accounts: run as root"
+fi
+
+rm -rf "$work"
+mkdir -p "$work"
+chmod 755 "$work"
+# The canary is written only into the secret files; the hostile script
+# builds it from two halves, so that its own text does not hold it.
+canary_a=CANARY- canary_b=$RANDOM$RANDOM
+canary=$canary_a$canary_b
+# make_secret DIR: the case list, the references and the grader, readable by
+# root only.
+make_secret() {
+  mkdir -m 700 "$1"
+  { echo "# $canary"; grep '^p1_teapot ' "$src/grader/cases.txt"; } >"$1/cases.txt"
+  mkdir -p "$1/refs"
+  cp -R "$src/reference_images/p1_teapot" "$1/refs/"
+  echo "$canary" >"$1/refs/p1_teapot/canary.txt"
+  cp "$grader" "$1/grader"
+}
+secret=$work/secret
+make_secret "$secret"
+out=$secret/out
+
+# A listener on loopback: writes a line to $work/connections for every
+# connection it accepts. Its port comes through a fifo (read blocks until
+# it is listening).
+mkfifo "$work/port"
+python3 - "$work/port" "$work/connections" <<'EOF' &
+import socket, sys
+s = socket.socket()
+s.bind(("127.0.0.1", 0))
+s.listen(8)
+open(sys.argv[2], "w").close()
+with open(sys.argv[1], "w") as f:
+    f.write(f"{s.getsockname()[1]}\n")
+while True:
+    c, _ = s.accept()
+    with open(sys.argv[2], "a") as f:
+        f.write("connection\n")
+    c.close()
+EOF
+listener=$!
+read -r port <"$work/port"
+trap 'kill $listener 2>/dev/null; pkill -f "$daemon_tag" 2>/dev/null' EXIT
+daemon_tag="pt-sbx-daemon-$canary_b"
+
+# The hostile "pathtracer": every path it tries is the real one on this
+# machine, as a submission could find them from /proc or a search.
+cat >"$work/hostile" <<EOF
+#!/bin/bash
+out=\$(pwd)
+say() { echo "\$*"; }
+# Reading the answer key: its real path, the parent's command line, a search.
+cat "$secret/refs/p1_teapot/canary.txt" 2>/dev/null && say "LEAK: read the references"
+cat "$secret/cases.txt" 2>/dev/null && say "LEAK: read the case list"
+refs=\$(tr '\0' '\n' </proc/\$PPID/cmdline 2>/dev/null | grep -A1 -x -- --references | tail -1)
+[ -n "\$refs" ] && cat "\$refs/p1_teapot/canary.txt" 2>/dev/null && say "LEAK: read the references named in the parent's command line"
+for dir in \$(readlink /proc/\$PPID/exe 2>/dev/null | xargs -r dirname) "\$out/../.." "\$out/../../.."; do
+  cat "\$dir/refs/p1_teapot/canary.txt" "\$dir/cases.txt" 2>/dev/null && say "LEAK: read the answer key beside \$dir"
+done
+c1=$canary_a c2=$canary_b
+grep -rsl "\$c1\$c2" "$work" /tmp 2>/dev/null | head -3 | sed 's/^/LEAK: found the canary in /'
+ls "\$out/.." 2>/dev/null | grep -q p1_teapot && say "LEAK: sees the other cases' folders"
+# Writing outside its folder.
+echo pwned >"$out/results.json" 2>/dev/null && say "LEAK: wrote the results"
+touch "$secret/refs/p1_teapot/PWNED" 2>/dev/null && say "LEAK: wrote into the references"
+touch "$work/PWNED" 2>/dev/null && say "LEAK: wrote into the test's folder"
+# A daemon left behind.
+( setsid bash -c 'exec -a $daemon_tag sleep 600' </dev/null >/dev/null 2>&1 & )
+# A connection to loopback.
+( exec 3<>/dev/tcp/127.0.0.1/$port ) 2>/dev/null && say "LEAK: connected to loopback"
+# The reference offered as its image through a link.
+ln -s "$secret/refs/p1_teapot/mean.pfm" "\$out/render.pfm" 2>/dev/null
+ln -s /proc/self/root/etc/passwd "\$out/render.png" 2>/dev/null
+say "hostile run done"
+exit 0
+EOF
+chmod 755 "$work/hostile"
+
+# Controls. The reference pathtracer passes through the sandbox; the
+# hostile script without a sandbox (in a copy of the secret folder) leaks,
+# so that the checks below can fail.
+"$secret/grader" run --pathtracer "$pathtracer" --cases "$secret/cases.txt" --references "$secret/refs" \
+  --scenes "$src/scenes" -q -j 1 -o "$secret/ok" --sandbox "$mode" "${accounts[@]}" >"$work/control.log" 2>&1
+control=$?
+check "the reference pathtracer passes p1_teapot through the $mode sandbox (exit $control)" [ "$control" = 0 ]
+if [ "$(id -u)" = 0 ]; then
+  make_secret "$work/open"
+  sed "s#$secret#$work/open#g" "$work/hostile" >"$work/hostile_open" && chmod 755 "$work/hostile_open"
+  "$work/open/grader" run --pathtracer "$work/hostile_open" --cases "$work/open/cases.txt" --references "$work/open/refs" \
+    --scenes "$src/scenes" -q -j 1 -o "$work/open/out" --sandbox none >"$work/open.log" 2>&1
+  check "without the sandbox the same script reads the references (the checks can fail)" \
+    grep -q "LEAK: read the references" "$work/open/out/cases/p1_teapot/render/stdout.txt"
+  pkill -f "$daemon_tag" 2>/dev/null
+  rm -f "$work/PWNED"
+  : >"$work/connections"
+fi
+
+"$secret/grader" run --pathtracer "$work/hostile" --cases "$secret/cases.txt" --references "$secret/refs" \
+  --scenes "$src/scenes" -q -j 2 -o "$out" --sandbox "$mode" "${accounts[@]}" >"$work/grader.log" 2>&1
+rc=$?
+cat "$work/grader.log" | tail -3
+check "the grader finished and failed the hostile case (exit $rc, 1 expected)" [ "$rc" = 1 ]
+printed=$out/cases/p1_teapot/render/stdout.txt
+check "the hostile run ran to its end" grep -q "hostile run done" "$printed"
+check "it reached nothing secret (no LEAK line: $(grep -h LEAK "$printed" | head -2 | tr '\n' ';'))" \
+  bash -c "! grep -q LEAK '$printed'"
+check "the canary appears in nothing it wrote" bash -c "! grep -rqs '$canary' '$out/cases'"
+check "results.json is the grader's" python3 -c "import json,sys; json.load(open('$out/results.json'))"
+check "nothing written into the references or the test's folder" \
+  bash -c "[ ! -e '$secret/refs/p1_teapot/PWNED' ] && [ ! -e '$work/PWNED' ]"
+# (The pattern's [p] keeps it from matching this check's own command line.)
+check "no daemon left behind" bash -c "! pgrep -f '[p]${daemon_tag#p}' >/dev/null"
+check "no connection arrived at the loopback listener" bash -c "[ ! -s '$work/connections' ]"
+check "the linked reference was not read as its image" \
+  grep -q "not read" "$out/cases/p1_teapot/result.json"
+check "no staging folder left in /tmp" bash -c "! ls -d /tmp/pt-render-* 2>/dev/null | xargs -r -n1 stat -c %U | grep -q sbxtest"
+
+if [ "$failures" -ne 0 ]; then
+  echo "$failures check(s) failed; the grader's log: $work/grader.log"
+  exit 1
+fi
+echo "all checks passed ($mode sandbox)"

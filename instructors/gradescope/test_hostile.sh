@@ -120,6 +120,8 @@ step_prepare() {
   HIDDEN_CASES=$work/hidden ALLOW_MISSING_REFERENCES=1 "$pkg/instructors/gradescope/make_autograder.sh" \
     --unpacked "$ag/source" >"$work/zip.log" 2>&1 || { cat "$work/zip.log"; echo "FAILED: make_autograder.sh"; exit 1; }
   # Canaries in what must never reach a student.
+  # (first and last: a feedback cut after its first errors still shows the first)
+  sed -i "1i # $canary" "$ag/source/project/grader/cases.txt"
   echo "# $canary" >>"$ag/source/project/grader/cases.txt"
   echo "$canary" >>"$ag/source/project/reference_images/README.md"
   (cd "$ag/source" && AUTOGRADER_ROOT=$ag AUTOGRADER_SKIP_APT=1 AUTOGRADER_RENDER_ACCOUNTS=2 bash ./setup.sh) \

@@ -16,8 +16,10 @@ case "${1:-}" in
 esac
 # Configuring needs every library the CMake files look for (the viewer's
 # cpp-httplib and the tests' Catch2 too), even to build one target.
+# bubblewrap: the sandbox of the grader's renders and of the Gradescope
+# package's builds (instructors/gradescope/README.md, "Security").
 packages=(build-essential cmake python3 libtinyxml2-dev liblodepng-dev catch2 libcli11-dev libopenexr-dev
-          libcpp-httplib-dev pkg-config)
+          libcpp-httplib-dev pkg-config bubblewrap)
 if [ "$build_only" = 0 ]; then
   packages+=(nodejs)
   # npm comes with some nodejs packages; Debian's is its own package.

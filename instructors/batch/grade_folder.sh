@@ -16,7 +16,10 @@
 # (instructors/gradescope/make_autograder.sh --unpacked) and builds the grader
 # there (its setup.sh, without apt). Delete that folder to start afresh.
 # Then, for each student S, instructors/gradescope/run_autograder builds S's
-# stages/ over the starter kit in its own build folder and grades it:
+# sources (the .cpp and .h files of its part folders) with the starter kit in
+# its own build folder, sandboxed as Gradescope does, and grades it (as
+# root, one student at a time: the sandbox's accounts are shared, so -j N
+# waits its turn; OUT_DIR must then be reachable by other users, o+x):
 #   OUT_DIR/S/results.json    Gradescope's results (always written)
 #   OUT_DIR/S/report.html, report.txt, build_log.txt, grader_log.txt, autograder_log.txt
 # and OUT_DIR/scores.csv has one row per student: student,score,max,failed
@@ -95,7 +98,7 @@ grade_one() {
   local work=$dest/.work
   rm -rf "$dest"
   mkdir -p "$work"
-  AUTOGRADER_ROOT=$work AUTOGRADER_SOURCE=$ag/source AUTOGRADER_SUBMISSION=$submissions/$s \
+  AUTOGRADER_ROOT=$work AUTOGRADER_SOURCE=$ag/source AUTOGRADER_PT=$ag/pt AUTOGRADER_SUBMISSION=$submissions/$s \
     AUTOGRADER_RESULTS=$work/results GRADER_BIN=$ag/pt/bin/grader GRADER_JOBS=$per_student_jobs \
     bash "$ag/source/run_autograder" >"$dest/autograder_log.txt" 2>&1 || rc=$?
   local f

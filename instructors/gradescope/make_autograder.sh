@@ -10,6 +10,10 @@
 #   run_autograder   Gradescope runs it for every submission
 #   project/         the student starter kit (instructors/starter_kit/make_starter_kit.py: no solution code),
 #                    with grader/ (sources, cases.txt), scenes/ and reference_images/
+#   sandbox.sh, submission_tools.py  what run_autograder uses: the build sandbox,
+#                    the intake of a submission's sources, the feedback's filter
+#   hidden/          the hidden cases (instructors/hidden_cases/, or HIDDEN_CASES=DIR):
+#                    cases.txt, their camera files, references/; never in project/
 #   README.md        this folder's README (settings to choose on Gradescope)
 #   VERSION          the commit it was made from
 #
@@ -70,8 +74,19 @@ grep -q 'add_subdirectory(grader)' "$stage/project/CMakeLists.txt" || {
   exit 1
 }
 
-cp "$here/setup.sh" "$here/run_autograder" "$here/README.md" "$stage/"
-chmod 755 "$stage/setup.sh" "$stage/run_autograder"
+cp "$here/setup.sh" "$here/run_autograder" "$here/sandbox.sh" "$here/submission_tools.py" "$here/README.md" "$stage/"
+chmod 755 "$stage/setup.sh" "$stage/run_autograder" "$stage/submission_tools.py"
+
+# Hidden cases: graded, never in the kit (project/), root-only on Gradescope.
+hidden_src=${HIDDEN_CASES:-$root/instructors/hidden_cases}
+hidden_count=0
+if [ -f "$hidden_src/cases.txt" ]; then
+  cp -R "$hidden_src" "$stage/hidden"
+  hidden_count=$(grep -Ecv '^[[:space:]]*(#|$)' "$hidden_src/cases.txt" || true)
+elif [ -n "${HIDDEN_CASES:-}" ]; then
+  echo "make_autograder: error: HIDDEN_CASES=$HIDDEN_CASES has no cases.txt" >&2
+  exit 1
+fi
 {
   echo "commit: $(git -C "$root" rev-parse HEAD 2>/dev/null || echo unknown)"
   if [ -n "$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null)" ]; then
@@ -80,6 +95,7 @@ chmod 755 "$stage/setup.sh" "$stage/run_autograder"
   echo "made: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
   echo "cases: $(grep -Ecv '^[[:space:]]*(#|$)' "$root/grader/cases.txt")"
   echo "cases without a reference: ${#missing[@]}"
+  echo "hidden cases: $hidden_count"
   # setup.sh checks the references unless some are missing on purpose.
   [ ${#missing[@]} -eq 0 ] || echo "reference check: off"
 } >"$stage/VERSION"

@@ -6,8 +6,9 @@
 #               WORK/autograder/source (setup.sh and run_autograder must be
 #               at its root)
 #   contents    setup.sh and run_autograder are executable; the zip holds the
-#               case list, the scenes and the grader's sources; its stages/
-#               are the starter kit's (no solution regions)
+#               case list, the scenes and the grader's sources, sandbox.sh and
+#               submission_tools.py; its stages/ are the starter kit's (no
+#               solution regions) and it has no hidden case in project/
 #   setup       its setup.sh (AUTOGRADER_SKIP_APT=1) builds the grader and
 #               checks the references (when the zip has them all)
 #   reference   run_autograder grades the reference tree's stages/ on two
@@ -119,6 +120,14 @@ step_contents() {
   local leaked
   if grep -rq --include='*.cpp' --include='*.h' "BEGIN SOLUTION" "$ag/source/project/stages"; then leaked=1; else leaked=0; fi
   check "the zip's stages/ are the starter kit's (no solution regions)" test "$leaked" = 0
+  check "the sandbox's script and the intake tool are at the zip's root" \
+    test -f "$ag/source/sandbox.sh" -a -x "$ag/source/submission_tools.py"
+  # Hidden cases (instructors/hidden_cases/) are in hidden/, never in the kit.
+  local names=() n
+  [ -f "$ag/source/hidden/cases.txt" ] && mapfile -t names < <(grep -Ev '^[[:space:]]*(#|$)' "$ag/source/hidden/cases.txt" | awk '{ print $1 }')
+  for n in ${names[@]+"${names[@]}"}; do
+    check "hidden case $n is not named in the kit (project/)" bash -c '! grep -rqw -- "$1" "$2"' _ "$n" "$ag/source/project"
+  done
 }
 
 # ---- 2. setup.sh, as Gradescope runs it ----

@@ -15,16 +15,11 @@ spread, into reference_images/long_renders.json. The test
 reference_converged compares every reference with its summary.
 
   reference_images/long_render.py CASE [--light-factor N] [--renders K] [-j J]
-      [--pathtracer build/bin/pathtracer] [--first-seed S] [--write-mean FILE.pfm]
-
---write-mean also writes the renders' per-pixel mean as a PFM, and then no
-summary: a reference's mean made by a lower-variance estimator (see
-reference_images/README.md) must come from other seeds than the summary it
-is checked against.
+      [--pathtracer build/bin/pathtracer] [--first-seed S]
 
 Run it on purpose (minutes per case); it prints the time it took.
 """
-import argparse, json, math, os, shlex, struct, subprocess, sys, tempfile, threading, time
+import argparse, json, math, os, shlex, struct, subprocess, sys, tempfile, time
 from concurrent.futures import ThreadPoolExecutor
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -81,7 +76,6 @@ def main():
     ap.add_argument('--first-seed', type=int, default=3000000)
     ap.add_argument('-j', type=int, default=2)
     ap.add_argument('--pathtracer', default=os.path.join(ROOT, 'build', 'bin', 'pathtracer'))
-    ap.add_argument('--write-mean', help='write the per-pixel mean as this PFM instead of the summary')
     a = ap.parse_args()
     f = case_line(a.case)
     part, scene, opts = f[1], f[5], f[6:]
@@ -95,8 +89,6 @@ def main():
             opts[k + 1] = os.path.join(ROOT, 'scenes', opts[k + 1])
     t0 = time.time()
     tmp = tempfile.mkdtemp(prefix='long_render_')
-    lock = threading.Lock()
-    pixel_sum = []
 
     def render(k):
         out = os.path.join(tmp, f'r{k}')
@@ -104,12 +96,6 @@ def main():
                '-f', out + '.png', '--pfm', out + '.pfm', os.path.join(ROOT, 'scenes', scene)]
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
         w, h, vals = read_pfm(out + '.pfm')
-        if a.write_mean:
-            with lock:
-                if not pixel_sum:
-                    pixel_sum.extend([0.0] * len(vals))
-                for i, v in enumerate(vals):
-                    pixel_sum[i] += v
         os.remove(out + '.pfm'); os.remove(out + '.png')
         for extra in (out + '_rate.png',):
             if os.path.exists(extra):
@@ -121,14 +107,6 @@ def main():
     os.rmdir(tmp)
     K = len(runs)
     w, h, _, _, bx, by = runs[0]
-    if a.write_mean:
-        # PFM: rows from the bottom, little-endian (negative scale).
-        with open(a.write_mean, 'wb') as fh:
-            fh.write(b'PF\n%d %d\n-1.0\n' % (w, h))
-            fh.write(struct.pack('<' + 'f' * len(pixel_sum), *[v / K for v in pixel_sum]))
-        print(f'{a.case}: {K} renders at -l x{a.light_factor}, {time.time() - t0:.0f} s; mean written to '
-              f'{a.write_mean}')
-        return
 
     def mean_se(values):
         m = sum(values) / K

@@ -16,12 +16,13 @@ const char* kind_name(CaseKind kind) {
     case CaseKind::Image: return "image";
     case CaseKind::Rate: return "rate";
     case CaseKind::Speedup: return "speedup";
+    case CaseKind::Probability: return "probability";
   }
   return "?";
 }
 
 bool parse_kind(const std::string& s, CaseKind* kind) {
-  for (CaseKind k : {CaseKind::Image, CaseKind::Rate, CaseKind::Speedup}) {
+  for (CaseKind k : {CaseKind::Image, CaseKind::Rate, CaseKind::Speedup, CaseKind::Probability}) {
     if (s == kind_name(k)) {
       *kind = k;
       return true;
@@ -79,13 +80,14 @@ std::vector<Case> read_cases(const std::string& path) {
     double part = 0;
     if (!parse_double(f[1], &part) || part < 1 || part > 9 || part != int(part)) fail("part must be 1..9");
     c.part = int(part);
-    if (!parse_kind(f[2], &c.kind)) fail("unknown kind '" + f[2] + "' (image, rate, speedup)");
+    if (!parse_kind(f[2], &c.kind)) fail("unknown kind '" + f[2] + "' (image, rate, speedup, probability)");
     if (!parse_double(f[3], &c.points) || c.points < 0) fail("points must be a number >= 0");
     if (!parse_double(f[4], &c.timeout_seconds) || c.timeout_seconds <= 0) fail("timeout must be seconds > 0");
     c.scene = f[5];
     c.options.assign(f.begin() + 6, f.end());
     for (const std::string& o : c.options)
-      if (o == "-f" || o == "--pfm" || o == "--stats-json" || o == "--seed" || o == "-t" || o == "--part")
+      if (o == "-f" || o == "--pfm" || o == "--stats-json" || o == "--seed" || o == "-t" || o == "--part" ||
+          o == "--env-probability")
         fail("option " + o + " is set by the grader, not the case");
     cases.push_back(std::move(c));
   }

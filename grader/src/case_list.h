@@ -12,6 +12,7 @@ enum class CaseKind {
   Image,        // the image against the reference
   Rate,         // image and sample-rate image (adaptive sampling)
   Speedup,      // render with --part 1 and --part 2: the BVH's speed-up
+  Probability,  // image, and the -e map's probability image (--env-probability)
 };
 
 struct Case {

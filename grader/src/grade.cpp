@@ -5,6 +5,7 @@
 #include <map>
 
 #include "grader/src/pictures.h"
+#include "grader/src/probability_image.h"
 #include "grader/src/signature.h"
 
 namespace grader {
@@ -121,7 +122,9 @@ Renders render_candidate(const RunSettings& run, const RenderPlan& plan, uint64_
   rs.radiance.share = plan.share;
   for (int k = 0; k < plan.renders; ++k) {
     const std::string dir = case_dir + (k == 0 ? "/render" : "/render_" + std::to_string(k));
-    RenderOutput out = render_case(run, plan.c, plan.c.part, candidate_seed(seed, k), dir, plan.c.kind == CaseKind::Rate);
+    // A probability case's first render also writes the map's probability image.
+    const Case rc = k == 0 ? with_probability_image(plan.c, dir) : plan.c;
+    RenderOutput out = render_case(run, rc, plan.c.part, candidate_seed(seed, k), dir, plan.c.kind == CaseKind::Rate);
     r->seconds += out.seconds;
     if (r->log.empty() || !out.ok) r->log = out.log;
     for (const std::string& t : out.todo)
@@ -331,6 +334,9 @@ CaseResult grade_case(const RunSettings& run, const std::string& reference_root,
     add_cost_signature(r, &r.signature);
   }
   if (c.kind == CaseKind::Speedup) checks.push_back(speedup_check(run, c, seed, case_dir, rules.costs, &r));
+  if (c.kind == CaseKind::Probability)
+    checks.push_back(check_probability_image(case_dir + "/render/" + kProbabilityImageFile,
+                                             reference_root + "/" + c.name + "/" + kProbabilityImageFile, c.points));
 
   for (const Check& k : checks) {
     r.metric += k.metric;

@@ -11,6 +11,7 @@
 
 #include "common/clock.h"
 #include "common/image_io.h"
+#include "grader/src/probability_image.h"
 #include "grader/src/rules.h"
 #include "grader/src/text.h"
 
@@ -34,6 +35,8 @@ bool load_reference(const std::string& root, const Case& c, Reference* ref, std:
     ref->deterministic = ref->meta.flag("deterministic");
     ref->mean = pt::read_pfm(dir + "/mean.pfm");
     ref->variance = pt::read_pfm(dir + "/variance.pfm");
+    if (c.kind == CaseKind::Probability && !fs::exists(dir + "/" + kProbabilityImageFile))
+      throw std::runtime_error(dir + "/" + kProbabilityImageFile + " is missing");
     if (c.kind == CaseKind::Rate) {
       ref->rate_mean = pt::read_pfm(dir + "/rate_mean.pfm");
       ref->rate_variance = pt::read_pfm(dir + "/rate_variance.pfm");
@@ -221,6 +224,24 @@ bool measure_part1(const Case& c, const MakeSettings& s, double* seconds, double
   return true;
 }
 
+// A probability case's picture of the map, by one more render, copied into
+// the reference's folder (before meta.json, which marks it complete).
+bool make_probability_image(const Case& c, const MakeSettings& s, const std::string& dir, std::string* message) {
+  const std::string run_dir = s.work_dir + "/" + c.name + "_probability";
+  RenderOutput out = render_case(s.run, with_probability_image(c, run_dir), c.part, s.first_seed, run_dir, false);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  fs::remove(dir + "/meta.json", ec);
+  if (out.ok) fs::copy_file(run_dir + "/" + kProbabilityImageFile, dir + "/" + kProbabilityImageFile,
+                            fs::copy_options::overwrite_existing, ec);
+  if (!out.ok || ec) {
+    *message = "reference probability image failed: " + (out.ok ? ec.message() : out.failure);
+    return false;
+  }
+  fs::remove_all(run_dir, ec);
+  return true;
+}
+
 // Writes the images, then meta.json last: an interrupted write leaves the
 // case incomplete, and the next run remakes it. Throws on a failed write.
 void write_reference(const std::string& dir, const Case& c, const MakeSettings& s, const ReferenceRuns& runs,
@@ -284,6 +305,7 @@ bool make_reference(const std::string& root, const Case& c, const MakeSettings& 
   }
   double part1_seconds = 0, part1_tests_per_ray = 0;
   if (c.kind == CaseKind::Speedup && !measure_part1(c, s, &part1_seconds, &part1_tests_per_ray, message)) return false;
+  if (c.kind == CaseKind::Probability && !make_probability_image(c, s, dir, message)) return false;
   try {
     write_reference(dir, c, s, runs, want_rate, part1_seconds, part1_tests_per_ray, t0);
   } catch (const std::exception& e) {

@@ -119,6 +119,15 @@ step_prepare() {
   local pkg=${package_tree:-$root}
   HIDDEN_CASES=$work/hidden ALLOW_MISSING_REFERENCES=1 "$pkg/instructors/gradescope/make_autograder.sh" \
     --unpacked "$ag/source" >"$work/zip.log" 2>&1 || { cat "$work/zip.log"; echo "FAILED: make_autograder.sh"; exit 1; }
+  # This autograder's starter code is the reference's own stages/, not the
+  # stubbed kit's: every submission below is the reference with a change or
+  # two, so that each run recompiles only the files it changes (the suite's
+  # time). The intake's rules against a stubbed kit are tested by
+  # test_submission_tools.py and test_package.sh.
+  if [ -z "$package_tree" ]; then
+    rm -rf "$ag/source/project/stages"
+    cp -R "$root/stages" "$ag/source/project/stages"
+  fi
   # Canaries in what must never reach a student.
   # (first and last: a feedback cut after its first errors still shows the first)
   sed -i "1i # $canary" "$ag/source/project/grader/cases.txt"

@@ -212,6 +212,11 @@ int wait_for_child(pid_t pid, double start, const Limits& limits, StderrWatch& w
 
 }  // namespace
 
+std::mutex& fork_mutex() {
+  static std::mutex m;
+  return m;
+}
+
 ChildResult run_child(const std::vector<std::string>& argv, const std::string& workdir,
                       const std::string& stdout_path, const std::string& stderr_path, const Limits& limits) {
   ChildResult result;
@@ -232,8 +237,12 @@ ChildResult run_child(const std::vector<std::string>& argv, const std::string& w
   }
   const uint64_t cpu = uint64_t(std::ceil(limits.cpu_seconds));
   const double start = now_seconds();
-  const pid_t pid = fork();
-  if (pid == 0) become_child(files, args.data(), workdir, cpu, limits);
+  pid_t pid;
+  {
+    std::lock_guard<std::mutex> lock(fork_mutex());
+    pid = fork();
+    if (pid == 0) become_child(files, args.data(), workdir, cpu, limits);
+  }
   for (int fd : {files.out, files.err, files.null, files.status_pipe[1]}) close(fd);
   if (pid < 0) {
     result.error = std::string("fork failed: ") + std::strerror(errno);

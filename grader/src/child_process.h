@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,12 @@ struct ChildResult {
 // threads at once.
 ChildResult run_child(const std::vector<std::string>& argv, const std::string& workdir,
                       const std::string& stdout_path, const std::string& stderr_path, const Limits& limits);
+
+// Held while the grader forks a child, and while it writes a file that a
+// child will run (a sandbox's copy of the binary): a child forked while a
+// thread has such a file open for writing would keep it open until its
+// exec, and running the file then fails with "Text file busy".
+std::mutex& fork_mutex();
 
 // "exited with status 3", "killed by signal 11 (Segmentation fault)",
 // "timed out after 60 s", "could not start: ...", "stopped after it printed ..."

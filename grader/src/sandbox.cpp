@@ -86,7 +86,11 @@ const char* const kInside = "/sandbox";
 // returns its exit status (-1 when it could not run).
 template <class F>
 int as_account(const Account* account, F task) {
-  const pid_t pid = fork();
+  pid_t pid;
+  {
+    std::lock_guard<std::mutex> lock(fork_mutex());
+    pid = fork();
+  }
   if (pid < 0) return -1;
   if (pid == 0) {
     if (account && (setgroups(0, nullptr) != 0 || setgid(account->gid) != 0 || setuid(account->uid) != 0)) _exit(120);
@@ -110,6 +114,8 @@ std::vector<std::string> paths_under(const std::string& root, size_t limit) {
 }
 
 bool copy_file_to(const std::string& from, const std::string& to, mode_t mode, std::string* error) {
+  // No fork while the copy is open for writing (fork_mutex).
+  std::lock_guard<std::mutex> lock(fork_mutex());
   std::error_code ec;
   fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
   if (!ec && chmod(to.c_str(), mode) != 0) ec = std::error_code(errno, std::generic_category());

@@ -87,16 +87,7 @@ ag=$agbase/ag
 canary=CANARY-$(printf '%s' "$work" | sha1sum | cut -c11-22)
 
 failures=0
-check() {  # check DESCRIPTION COMMAND...
-  local what=$1
-  shift
-  if "$@"; then
-    echo "ok: $what"
-  else
-    echo "FAILED: $what"
-    failures=$((failures + 1))
-  fi
-}
+. "$root/tests/shell/check.sh"  # check DESCRIPTION COMMAND...
 need() { [ -e "$1" ] || { echo "FAILED: no $1: run the $2 step first" >&2; exit 1; }; }
 
 # ---- prepare ----

@@ -59,16 +59,7 @@ work=$(cd "$work" && pwd)
 ag=$work/autograder
 
 failures=0
-check() {  # check DESCRIPTION COMMAND...
-  local what=$1
-  shift
-  if "$@"; then
-    echo "ok: $what"
-  else
-    echo "FAILED: $what"
-    failures=$((failures + 1))
-  fi
-}
+. "$root/tests/shell/check.sh"  # check DESCRIPTION COMMAND...
 case_args=()
 for c in "${cases[@]}"; do case_args+=(--case "$c"); done
 need() { [ -e "$1" ] || { echo "FAILED: no $1: run the $2 step first" >&2; exit 1; }; }

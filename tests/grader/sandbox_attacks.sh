@@ -21,11 +21,7 @@ grader=$1 pathtracer=$2 src=$3 mode=$4 work=$5
 
 skip() { echo "SKIPPED: $*"; exit 77; }
 failures=0
-check() {  # check DESCRIPTION COMMAND...
-  local what=$1
-  shift
-  if "$@"; then echo "ok: $what"; else echo "FAILED: $what"; failures=$((failures + 1)); fi
-}
+. "$src/tests/shell/check.sh"  # check DESCRIPTION COMMAND...
 
 command -v python3 >/dev/null || skip "python3 is not installed (the loopback listener is a python3 script)"
 if [ "$mode" = bwrap ]; then

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "tests/grader/make_case.h"
 #include "grader/src/findings.h"
 #include "grader/src/hints.h"
 #include "grader/src/run_case.h"
@@ -60,14 +61,7 @@ TEST_CASE("Part 3 images uniformly half as bright in two cases are reported as s
 
 namespace {
 
-Case make_case(const std::string& name, int part, const std::string& scene, std::vector<std::string> options = {}) {
-  Case c;
-  c.name = name;
-  c.part = part;
-  c.scene = scene;
-  c.options = std::move(options);
-  return c;
-}
+using grader::test::make_case;
 
 const std::vector<Case> kCases = {
     make_case("p1_spheres", 1, "CBspheres_lambertian.dae"), make_case("p1_cow", 1, "cow.dae"),

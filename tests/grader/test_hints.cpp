@@ -8,6 +8,7 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "tests/grader/make_case.h"
 #include "grader/src/hints.h"
 
 using namespace grader;
@@ -15,14 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Case make_case(const std::string& name, int part, const std::string& scene, std::vector<std::string> options = {}) {
-  Case c;
-  c.name = name;
-  c.part = part;
-  c.scene = scene;
-  c.options = std::move(options);
-  return c;
-}
+using grader::test::make_case;
 
 const std::vector<Case> kCases = {make_case("p4_m2", 4, "CBspheres_lambertian.dae", {"-m", "2"}),
                                   make_case("p6_m3", 6, "CBspheres.dae", {"-m", "3"}),

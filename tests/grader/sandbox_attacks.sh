@@ -14,7 +14,7 @@
 #   sandbox_attacks.sh GRADER PATHTRACER SOURCE_DIR MODE WORK
 #
 # MODE is bwrap or user. As root it renders as two accounts made here
-# (pt-sbxtest1, pt-sbxtest2); mode user needs root. Exits 77 (skipped) with
+# (pt-sbx-MODE-1, pt-sbx-MODE-2); mode user needs root. Exits 77 (skipped) with
 # the reason when the machine cannot run the mode.
 set -uo pipefail
 grader=$1 pathtracer=$2 src=$3 mode=$4 work=$5
@@ -31,11 +31,13 @@ if [ "$mode" = bwrap ]; then
 fi
 accounts=()
 if [ "$(id -u)" = 0 ]; then
-  for a in pt-sbxtest1 pt-sbxtest2; do
+  # Accounts of this mode's own: the other mode's test may run at the same
+  # time, and the grader kills every process of an account after a render.
+  for a in "pt-sbx-$mode-1" "pt-sbx-$mode-2"; do
     id "$a" >/dev/null 2>&1 || useradd --system --no-create-home --shell /usr/sbin/nologin "$a" 2>/dev/null ||
       skip "cannot create the account $a (useradd failed)"
   done
-  accounts=(--sandbox-user pt-sbxtest1,pt-sbxtest2)
+  accounts=(--sandbox-user "pt-sbx-$mode-1,pt-sbx-$mode-2")
 elif [ "$mode" = user ]; then
   skip "--sandbox user renders as other accounts: run as root"
 fi
@@ -154,7 +156,7 @@ check "no daemon left behind" bash -c "! pgrep -f '[p]${daemon_tag#p}' >/dev/nul
 check "no connection arrived at the loopback listener" bash -c "[ ! -s '$work/connections' ]"
 check "the linked reference was not read as its image" \
   grep -q "not read" "$out/cases/p1_teapot/result.json"
-check "no staging folder left in /tmp" bash -c "! ls -d /tmp/pt-render-* 2>/dev/null | xargs -r -n1 stat -c %U | grep -q sbxtest"
+check "no staging folder left in /tmp" bash -c "! ls -d /tmp/pt-render-* 2>/dev/null | xargs -r -n1 stat -c %U | grep -q pt-sbx-$mode"
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures check(s) failed; the grader's log: $work/grader.log"

@@ -398,7 +398,7 @@ TEST_CASE("a malformed case list: exit 2 and one line naming file:line, nothing 
   };
   const Bad bad[] = {
       {"p1 1 image 2 20", "expected: name part kind points timeout scene [options...]"},
-      {"p1 1 picture 2 20 good.dae", "unknown kind 'picture' (image, rate, speedup)"},
+      {"p1 1 picture 2 20 good.dae", "unknown kind 'picture' (image, rate, speedup, probability)"},
       {"p1 10 image 2 20 good.dae", "part must be 1..9"},
       {"p1 0 image 2 20 good.dae", "part must be 1..9"},
       {"p1 1 image -2 20 good.dae", "points must be a number >= 0"},

@@ -30,6 +30,11 @@ if [ "$mode" = bwrap ]; then
     -- /usr/bin/true 2>/dev/null || skip "bwrap cannot make namespaces here (user namespaces not allowed?)"
 fi
 accounts=()
+# One run of a mode at a time on this machine (a starter kit's suite may run
+# the same test beside this tree's): the grader kills every process of an
+# account after each render. flock waits for the other run to end.
+exec 9>"/tmp/pt-sbx-$mode.lock"
+flock 9
 if [ "$(id -u)" = 0 ]; then
   # Accounts of this mode's own: the other mode's test may run at the same
   # time, and the grader kills every process of an account after a render.

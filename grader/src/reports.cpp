@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "common/image_io.h"
@@ -275,10 +276,10 @@ Json test_json(const std::string& name, const std::string& number, const std::st
   return test;
 }
 
-void set_score(Json& test, double score, double max_score) {
+void set_score(Json& test, double score, double max_score, bool passed) {
   test.set("score", pt::json_real(score))
       .set("max_score", pt::json_real(max_score))
-      .set("status", pt::json_text(score >= max_score - 1e-9 ? "passed" : "failed"));
+      .set("status", pt::json_text(passed ? "passed" : "failed"));
 }
 
 }  // namespace
@@ -292,18 +293,17 @@ std::string gradescope_json(const std::vector<CaseResult>& rs, const RunInfo& in
     Json test = test_json("Part " + std::to_string(r.c.part) + ": " + r.c.name,
                           std::to_string(r.c.part) + "." + std::to_string(i + 1), case_output(r), "visible",
                           extra_data(r));
-    set_score(test, r.score, r.max_score);
-    test.set("status", pt::json_text(r.verdict == Verdict::Passed ? "passed" : "failed"));
+    set_score(test, r.score, r.max_score, r.verdict == Verdict::Passed);
     tests.push_back(test);
   }
   // The hidden cases: per part, one visible test with their total and each
   // one's verdict (no name, no settings); per case, one test for the staff
   // only, with everything.
   std::map<int, std::vector<const CaseResult*>> hidden;
-  std::map<int, double> shown_lost;
+  std::set<int> parts_losing_public_points;
   for (const CaseResult& r : rs) {
     if (r.c.hidden) hidden[r.c.part].push_back(&r);
-    else if (r.verdict != Verdict::Passed) shown_lost[r.c.part] += 1;
+    else if (r.verdict != Verdict::Passed) parts_losing_public_points.insert(r.c.part);
   }
   std::vector<std::string> staff_notes;
   for (const auto& [part, list] : hidden) {
@@ -324,10 +324,9 @@ std::string gradescope_json(const std::vector<CaseResult>& rs, const RunInfo& in
     extra.set("hidden", pt::json_bool(true)).set("part", pt::json_real(part)).set("cases", pt::json_real(double(list.size())));
     Json test = test_json("Part " + std::to_string(part) + ": hidden cases (" + std::to_string(list.size()) + ")",
                           std::to_string(part) + ".99", output, "visible", extra);
-    set_score(test, score, max_score);
-    test.set("status", pt::json_text(all_passed ? "passed" : "failed"));
+    set_score(test, score, max_score, all_passed);
     tests.push_back(test);
-    if (!shown_lost.count(part) && max_score > 0 && score < 0.5 * max_score)
+    if (!parts_losing_public_points.count(part) && max_score > 0 && score < 0.5 * max_score)
       staff_notes.push_back("Part " + std::to_string(part) + ": every public case passes, but the hidden cases score " +
                             fmt("%.2f", score) + " of " + fmt("%g", max_score) +
                             " (a build that fits the public cases only, or replays their references?)");

@@ -88,11 +88,12 @@ bool size_matches(const ImageBuffer& img, int w, int h, const std::string& what,
 }
 
 // The command line of a render of `c` by `binary` into `out_dir`, with each
-// input file (case_input_files) given as `path_of(file)`.
+// of its input files (`inputs`, from case_input_files) given as
+// `path_of(file)`.
 template <class PathOf>
 std::vector<std::string> render_argv(const RunSettings& s, const Case& c, int part, uint64_t seed,
-                                     const std::string& binary, const std::string& out_dir, PathOf path_of) {
-  const std::vector<std::string> inputs = case_input_files(s, c);
+                                     const std::vector<std::string>& inputs, const std::string& binary,
+                                     const std::string& out_dir, PathOf path_of) {
   std::vector<std::string> argv = {binary, "--part", std::to_string(part)};
   size_t next_input = 1;  // inputs[0] is the scene
   for (size_t i = 0; i < c.options.size(); ++i) {
@@ -258,19 +259,20 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
   const std::string binary = fs::absolute(s.pathtracer).string();
   Staging staging;
   const Account* account = s.sandbox.account();
+  const std::vector<std::string> inputs = case_input_files(s, c);
   std::vector<std::string> argv;
   if (s.sandbox.on()) {
-    std::vector<std::string> inputs = case_input_files(s, c);
-    inputs.insert(inputs.begin(), binary);
+    std::vector<std::string> staged = inputs;
+    staged.push_back(binary);
     std::string why;
-    if (!staging.stage(s.sandbox, account, inputs, &why)) {
+    if (!staging.stage(s.sandbox, account, staged, &why)) {
       out.failure = "grader error: " + why;
       return out;
     }
     const auto inside = [&](const std::string& f) { return staging.input_path(f); };
-    argv = staging.command(render_argv(s, c, part, seed, inside(binary), staging.out_path(), inside));
+    argv = staging.command(render_argv(s, c, part, seed, inputs, inside(binary), staging.out_path(), inside));
   } else {
-    argv = render_argv(s, c, part, seed, binary, abs_dir, [](const std::string& f) { return f; });
+    argv = render_argv(s, c, part, seed, inputs, binary, abs_dir, [](const std::string& f) { return f; });
   }
   Limits limits;
   limits.wall_seconds = c.timeout_seconds * s.timeout_scale;

@@ -287,11 +287,10 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
                         abs_dir + "/stderr.txt", limits);
   if (account) kill_account_processes(*account);  // whatever it left running
   std::vector<std::string> refused;
+  bool too_much = false;
   if (s.sandbox.on()) {
-    if (directory_bytes(staging.workdir()) > s.output_bytes)
-      refused.push_back("its folder (more than the output limit)");
-    else
-      staging.collect(kRenderFiles, abs_dir, s.output_bytes, &refused);
+    too_much = directory_bytes(staging.workdir()) > s.output_bytes;
+    if (!too_much) staging.collect(kRenderFiles, abs_dir, s.output_bytes, &refused);
   }
   out.seconds = out.child.seconds;
   out.log = log_excerpt(abs_dir);
@@ -300,6 +299,10 @@ RenderOutput render_case(const RunSettings& s, const Case& c, int part, uint64_t
 
   if (!out.child.started || out.child.timed_out || out.child.signal != 0 || out.child.exit_code != 0) {
     out.failure = describe(out.child, limits);
+    return out;
+  }
+  if (too_much) {
+    out.failure = "wrote more than the " + std::to_string(s.output_bytes >> 20) + " MB limit into its folder: not read";
     return out;
   }
   if (!refused.empty()) {

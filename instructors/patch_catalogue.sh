@@ -191,7 +191,7 @@ try:
 except (OSError, ValueError):
     print("0.00 0 0 no-results")
     sys.exit(0)
-tests = r["tests"]
+tests = [t for t in r["tests"] if "max_score" in t]  # the staff's hidden-case tests carry no points
 lost = [t["name"].split(": ", 1)[1] for t in tests if t["score"] < t["max_score"]]
 print(f'{r["score"]:.2f} {sum(t["max_score"] for t in tests):g} {len(tests)} {",".join(lost) or "-"}')
 PY
@@ -203,10 +203,12 @@ parts_of() { echo "$1" | tr ',' '\n' | sed -nE 's/^p([1-9])_.*/\1/p' | sort -u |
 # grade BINARY OUT [grader run options...]: every case, reports in OUT;
 # the grader's own output in OUT.log. Never fails (the verdicts are in
 # OUT/results.json).
+# More `grader run` options for every grading (e.g. --hidden-cases FILE).
+grade_extra=()
 grade() {
   local binary=$1 out=$2
   shift 2
-  "$grader" run -q -j "$jobs" --pathtracer "$binary" -o "$out" "$@" > "$out.log" 2>&1 || true
+  "$grader" run -q -j "$jobs" --pathtracer "$binary" -o "$out" ${grade_extra[@]+"${grade_extra[@]}"} "$@" > "$out.log" 2>&1 || true
 }
 
 # The lowest part whose stage folder PATCH touches (stages/partN_...), or 1

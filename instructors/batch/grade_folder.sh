@@ -110,7 +110,9 @@ grade_one() {
   line=$(python3 - "$dest/results.json" <<'EOF' 2>/dev/null || echo "no results.json"
 import json, sys
 d = json.load(open(sys.argv[1]))
-tests = d.get("tests", [])
+# Tests with points: the public cases and each part's hidden total (the
+# staff's per-hidden-case tests carry none).
+tests = [t for t in d.get("tests", []) if "max_score" in t]
 if tests:
     print(f"{d['score']:g} / {sum(t['max_score'] for t in tests):g}")
 else:
@@ -132,7 +134,7 @@ for s in students:
     except (OSError, ValueError):
         rows.append([s, "", "", "not graded"])
         continue
-    tests = d.get("tests", [])
+    tests = [t for t in d.get("tests", []) if "max_score" in t]  # the staff's hidden-case tests carry no points
     if tests:
         full = sum(t["max_score"] for t in tests)
         failed = [t["name"].split(": ", 1)[-1] for t in tests if t["score"] < t["max_score"]]

@@ -7,9 +7,15 @@
 # tree. This script builds each variant's pathtracer in a copy of the tree
 # (instructors/patch_catalogue.sh, shared with the mutants), grades it and
 # the reference build on every case at each seed of --seeds, and writes
-# the table to instructors/legal_variants/variants.md.
+# the table to instructors/legal_variants/variants.md. With --hidden, the
+# hidden cases (instructors/hidden_cases/) are graded too, each counted as
+# a case of its own, and the table goes to variants_hidden.md. Each
+# --grader-arg is passed to every `grader run` (e.g. --grader-arg --sandbox
+# --grader-arg bwrap --grader-arg --sandbox-user --grader-arg A,B: the
+# renders in the Gradescope package's sandbox).
 #
 #   instructors/legal_variants/grade_variants.sh [--seeds 1,2,3,4,5] [--build-root DIR] [--table FILE] [-j N] [--only NAME]...
+#                                                [--hidden] [--grader-arg ARG]...
 #   instructors/legal_variants/grade_variants.sh --check              # every patch listed, and applies to this tree
 #   instructors/legal_variants/grade_variants.sh --plant NAME DIR     # a copy of the tree with one variant, in DIR
 #
@@ -39,7 +45,12 @@ while [ $# -gt 0 ]; do
       [ $# -ge 2 ] || { echo "$tool: --seeds needs a value" >&2; exit 2; }
       [[ "$2" =~ ^[0-9]+(,[0-9]+)*$ ]] || { echo "$tool: --seeds $2: want seeds separated by commas (1,2,3)" >&2; exit 2; }
       seeds=$2; shift 2 ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    --hidden) grade_extra+=(--hidden-cases "$root/instructors/hidden_cases/cases.txt")
+              [ "$table" = "$root/instructors/legal_variants/variants.md" ] && table="$root/instructors/legal_variants/variants_hidden.md"
+              shift ;;
+    --grader-arg) [ $# -ge 2 ] || { echo "$tool: --grader-arg needs a value" >&2; exit 2; }
+                  grade_extra+=("$2"); shift 2 ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     *) catalogue_option "$@" || exit 2; shift "$catalogue_shift" ;;
   esac
 done
@@ -93,6 +104,17 @@ def short(text):
     lines = [l for l in text.splitlines() if l and not l.startswith("Command:")]
     return " / ".join(lines[:2])[:300].replace("|", "/")
 
+def per_case(r):
+    """One entry per graded case: the public cases' tests, and the hidden
+    cases' staff tests (their per-part totals left out)."""
+    out = []
+    for t in r["tests"]:
+        extra = t.get("extra_data", {})
+        if "case" in extra:
+            out.append({"name": extra["case"], "score": extra["score"], "max_score": extra["max_score"],
+                        "output": t.get("output", "")})
+    return out
+
 def row(stem):
     """Scores per seed, {case: [seeds]}, {case: first reason}, full marks at every seed."""
     scores, lost, why, full, mx = [], {}, {}, True, 0
@@ -102,11 +124,12 @@ def row(stem):
             scores.append("no results")
             full = False
             continue
-        mx = sum(t["max_score"] for t in r["tests"])
+        tests = per_case(r)
+        mx = sum(t["max_score"] for t in tests)
         scores.append(f'{r["score"]:.2f}')
-        for t in r["tests"]:
+        for t in tests:
             if t["score"] < t["max_score"]:
-                case = t["name"].split(": ", 1)[1]
+                case = t["name"]
                 lost.setdefault(case, []).append(s)
                 why.setdefault(case, f"seed {s}: " + short(t.get("output", "")))
                 full = False

@@ -1,6 +1,7 @@
 #include "common/todo.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <mutex>
 #include <set>
 
@@ -21,15 +22,22 @@ std::mutex& print_mutex() {
   return mu;
 }
 
-// `file` from the repository's root: without the build's source folder, or
-// (a tree built from elsewhere, or without the definition) from its last
+// `file` from the repository's root: without the build's source folder; a
+// relative name (a compiler given paths relative to a build folder inside
+// the tree, as under ccache: "../../stages/...") without its leading "../";
+// or (a tree built from elsewhere, or without the definition) from its last
 // "stages/" folder on; otherwise as it is.
 std::string from_root(const char* file) {
-  const std::string path = file;
+  const std::string path = std::filesystem::path(file).lexically_normal().string();
   const std::string root = PT_SOURCE_DIR;
   if (!root.empty() && path.size() > root.size() + 1 && path.compare(0, root.size(), root) == 0 &&
       path[root.size()] == '/')
     return path.substr(root.size() + 1);
+  if (!path.empty() && path[0] != '/') {
+    size_t from = 0;
+    while (path.compare(from, 3, "../") == 0) from += 3;
+    if (from < path.size()) return path.substr(from);
+  }
   size_t at = path.rfind("stages/");
   while (at != std::string::npos) {
     if (at == 0 || path[at - 1] == '/') return path.substr(at);

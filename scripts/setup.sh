@@ -21,7 +21,9 @@ esac
 packages=(build-essential cmake python3 libtinyxml2-dev liblodepng-dev catch2 libcli11-dev libopenexr-dev
           libcpp-httplib-dev pkg-config bubblewrap)
 if [ "$build_only" = 0 ]; then
-  packages+=(nodejs)
+  # ccache: the test suite builds the same files again in the kits' trees
+  # (CMakeLists.txt, PT_CCACHE).
+  packages+=(nodejs ccache)
   # npm comes with some nodejs packages; Debian's is its own package.
   command -v npm >/dev/null 2>&1 || packages+=(npm)
   # The instructors' tests check the viewer's and the write-up's pages in

@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 extern char** environ;
@@ -107,6 +108,10 @@ std::string file_line(std::string s, const std::string& source_dir) {
   if (const size_t d = s.find(" (discriminator"); d != std::string::npos) s.erase(d);
   if (s.size() >= 2 && s.compare(s.size() - 2, 2, ":?") == 0) return "";
   if (s.size() >= 2 && s.compare(s.size() - 2, 2, ":0") == 0) return "";
+  // "/src/build/x/../../viewer/a.cpp:3" (a compiler given relative paths,
+  // as under ccache) -> "/src/viewer/a.cpp:3".
+  if (const size_t colon = s.rfind(':'); colon != std::string::npos && s.find("/.") != std::string::npos)
+    s = std::filesystem::path(s.substr(0, colon)).lexically_normal().string() + s.substr(colon);
   if (!source_dir.empty() && s.compare(0, source_dir.size() + 1, source_dir + "/") == 0)
     s.erase(0, source_dir.size() + 1);
   return s;

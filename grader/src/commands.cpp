@@ -145,7 +145,7 @@ int exit_code_for(const std::vector<CaseResult>& results) {
 }
 
 std::string git_commit() {
-  FILE* p = popen(("git -C '" + std::string(PT_SOURCE_DIR) + "' rev-parse --short HEAD 2>/dev/null").c_str(), "r");
+  FILE* p = popen(("git -C '" + source_dir() + "' rev-parse --short HEAD 2>/dev/null").c_str(), "r");
   if (!p) return "unknown";
   char buf[64] = {0};
   const bool ok = std::fgets(buf, sizeof buf, p) != nullptr;

@@ -32,13 +32,18 @@ constexpr int kAllPassed = 0, kSomeFailed = 1, kUsageError = 2;
 // The folder the running grader's binary is in.
 std::string executable_dir();
 
+// The source tree the grader was built from (its default case list,
+// references and scenes); defined in source_dir.cpp, the one file that
+// needs the tree's path at compile time.
+std::string source_dir();
+
 // The options every command shares.
 struct Common {
   std::string pathtracer = executable_dir() + "/pathtracer";
-  std::string cases = std::string(PT_SOURCE_DIR) + "/grader/cases.txt";
-  std::string references = std::string(PT_SOURCE_DIR) + "/reference_images";
-  std::string scenes = std::string(PT_SOURCE_DIR) + "/scenes";
-  std::string catalogue = std::string(PT_SOURCE_DIR) + "/grader/known_bugs.json";
+  std::string cases = source_dir() + "/grader/cases.txt";
+  std::string references = source_dir() + "/reference_images";
+  std::string scenes = source_dir() + "/scenes";
+  std::string catalogue = source_dir() + "/grader/known_bugs.json";
   std::vector<int> parts;
   std::vector<std::string> names;
   std::string shard;  // "K/N"

@@ -25,7 +25,7 @@ struct Options {
   int seeds = 50;  // calibrate
   std::vector<std::string> builds;  // calibrate: NAME=PATH
   uint64_t first_seed = 2000;
-  std::string table = std::string(PT_SOURCE_DIR) + "/grader/tables/calibration.md";
+  std::string table = source_dir() + "/grader/tables/calibration.md";
   std::string compare_case, compare_out = ".";
   std::vector<std::string> compare_files;  // compare
   bool list = false;
@@ -34,7 +34,7 @@ struct Options {
   std::vector<std::string> graded;
   std::vector<std::string> grade_dirs;  // rescore
   std::string rescore_out;
-  std::string hints_table = std::string(PT_SOURCE_DIR) + "/grader/tables/hints.md";
+  std::string hints_table = source_dir() + "/grader/tables/hints.md";
 };
 
 CLI::App* add_run(CLI::App& app, Common& common, Options& o) {

@@ -115,6 +115,18 @@ def same_as_kit(path, kit_path):
         return mine is not None and mine == f.read()
 
 
+def unchanged(dest, data):
+    """dest is a regular file (of the kit's tree) holding exactly data."""
+    try:
+        st_ = os.lstat(dest)
+        if not stat.S_ISREG(st_.st_mode) or st_.st_size != len(data):
+            return False
+        with open(dest, "rb") as f:
+            return f.read() == data
+    except OSError:
+        return False
+
+
 def group_line(ignored):
     """ONE line: the ignored files grouped by reason, a few names each."""
     if not ignored:
@@ -213,6 +225,12 @@ def cmd_intake(a):
             dest = os.path.join(dest_dir, name)
             if os.path.islink(dest):
                 os.unlink(dest)
+            elif unchanged(dest, data):
+                # The kit's own bytes: the file keeps the kit's time, so the
+                # warm build folder's object for it stays valid (make
+                # recompiles only what the submission changed).
+                accepted.append(f"stages/{rel}")
+                continue
             tmp = dest + ".intake-tmp"
             with open(tmp, "wb") as f:
                 f.write(data)

@@ -85,6 +85,26 @@ class Intake(unittest.TestCase):
         self.assertNotIn("README.md", line)
         self.assertIn("build files: CMakeLists.txt, part1_raytracing/CMakeLists.txt;", line)
 
+    def test_a_file_unchanged_from_the_kit_keeps_its_time_a_changed_one_is_new(self):
+        # The warm build folder's objects stay valid for the kit's own bytes only.
+        old = 1_000_000_000
+        for rel in ("part1_raytracing/a.cpp", "part1_raytracing/a.h", "part2_bvh/a.cpp"):
+            os.utime(os.path.join(self.tree, rel), (old, old))
+        s = f"{self.sub}/stages"
+        write(f"{s}/part1_raytracing/a.cpp", "// kit a\n")  # the kit's bytes
+        write(f"{s}/part1_raytracing/a.h", "// kit a.h, changed\n")
+        write(f"{s}/part2_bvh/a.cpp", "// kit a\n\n")  # one byte more
+        rc, r = self.intake()
+        self.assertEqual(rc, 0)
+        self.assertEqual(sorted(r["accepted"]), ["stages/part1_raytracing/a.cpp", "stages/part1_raytracing/a.h",
+                                                 "stages/part2_bvh/a.cpp"])
+        mtime = lambda rel: os.stat(os.path.join(self.tree, rel)).st_mtime  # noqa: E731
+        self.assertEqual(mtime("part1_raytracing/a.cpp"), old)
+        self.assertGreater(mtime("part1_raytracing/a.h"), old)
+        self.assertGreater(mtime("part2_bvh/a.cpp"), old)
+        self.assertEqual(self.tree_text("part1_raytracing/a.h"), "// kit a.h, changed\n")
+        self.assertEqual(self.tree_text("part2_bvh/a.cpp"), "// kit a\n\n")
+
     def test_size_limits(self):
         s = f"{self.sub}/stages"
         write(f"{s}/part1_raytracing/a.cpp", "x" * (st.MAX_FILE_BYTES + 1))

@@ -42,16 +42,22 @@ for v in "${variants[@]}"; do
   apply_patch "$src" "$root/instructors/legal_variants/patches/$v.patch" \
     || { echo "graded_together.sh: variant $v does not apply on top of the others" >&2; exit 2; }
 done
+# Built inside the copy, through ccache where it is installed (as
+# scripts/build.sh does): the files no patch touches are then cache hits of
+# this tree's own build (same paths relative to the build folder).
+ccache=OFF
+command -v ccache >/dev/null 2>&1 && ccache=ON
 build() {
-  [ -f "$work/build/CMakeCache.txt" ] ||
-    cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_TESTS=OFF > "$work/configure.log" 2>&1
-  cmake --build "$work/build" -j "$(nproc 2>/dev/null || echo 2)" --target pathtracer > "$work/build.log" 2>&1 ||
+  [ -f "$src/build/CMakeCache.txt" ] ||
+    cmake -S "$src" -B "$src/build" -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_TESTS=OFF -DPT_CCACHE=$ccache \
+      > "$work/configure.log" 2>&1
+  cmake --build "$src/build" -j "$(nproc 2>/dev/null || echo 2)" --target pathtracer > "$work/build.log" 2>&1 ||
     { tail -20 "$work/build.log"; echo "graded_together.sh: the build failed ($work/build.log)" >&2; exit 2; }
 }
 build
 status=0
 echo "== legal variants together: ${variants[*]:-none}"
-if "$grader" run -q --pathtracer "$work/build/bin/pathtracer" -o "$work/variants.grade" "${grader_args[@]}" \
+if "$grader" run -q --pathtracer "$src/build/bin/pathtracer" -o "$work/variants.grade" "${grader_args[@]}" \
      > "$work/variants.log" 2>&1; then
   echo "   full marks"
 else
@@ -87,7 +93,7 @@ if [ -n "$mutant" ]; then
     exit 2
   fi
   echo "== mutant $mutant on top of them (parts $first and later)"
-  if "$grader" run -q --pathtracer "$work/build/bin/pathtracer" -o "$work/mutant.grade" "${mutant_args[@]}" \
+  if "$grader" run -q --pathtracer "$src/build/bin/pathtracer" -o "$work/mutant.grade" "${mutant_args[@]}" \
        > "$work/mutant.log" 2>&1; then
     cat "$work/mutant.log"
     echo "graded_together.sh: mutant $mutant was not caught" >&2

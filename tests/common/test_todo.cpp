@@ -61,6 +61,11 @@ TEST_CASE("a TODO message names the part, the function and the file from the rep
   CHECK(todo_message(4, "at_least_one_bounce_radiance",
                      "/home/a/stages/kit/stages/part4_global_illumination/global_illumination.cpp") ==
         "Part 4: at_least_one_bounce_radiance (stages/part4_global_illumination/global_illumination.cpp)");
+  // A compiler given paths relative to the build folder (ccache's base_dir
+  // does that): from the root, whatever the folder's depth.
+  CHECK(todo_message(3, "f", "../../tests/common/test_todo.cpp") == "Part 3: f (tests/common/test_todo.cpp)");
+  CHECK(todo_message(3, "f", "../../../viewer/../stages/part3_direct_lighting/a.cpp") ==
+        "Part 3: f (stages/part3_direct_lighting/a.cpp)");
   // "mystages/" is not a stages/ folder; a path with none is kept whole.
   CHECK(todo_message(5, "f", "/x/mystages/part5/a.cpp") == "Part 5: f (/x/mystages/part5/a.cpp)");
 }

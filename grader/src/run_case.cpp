@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "grader/src/image_files.h"
+#include "grader/src/probability_image.h"
 #include "common/image_io.h"
 
 namespace grader {
@@ -98,7 +99,12 @@ std::vector<std::string> render_argv(const RunSettings& s, const Case& c, int pa
   size_t next_input = 1;  // inputs[0] is the scene
   for (size_t i = 0; i < c.options.size(); ++i) {
     const bool names_file = i > 0 && (c.options[i - 1] == "-e" || c.options[i - 1] == "-c");
-    argv.push_back(names_file && next_input < inputs.size() ? path_of(inputs[next_input++]) : c.options[i]);
+    // An output the grader asks for (a probability case's image) is written
+    // into out_dir like the render, whatever folder the case named: in a
+    // sandbox only out_dir is writable, and only it is read back.
+    const bool names_output = i > 0 && c.options[i - 1] == "--env-probability";
+    if (names_output) argv.push_back(out_dir + "/" + kProbabilityImageFile);
+    else argv.push_back(names_file && next_input < inputs.size() ? path_of(inputs[next_input++]) : c.options[i]);
   }
   argv.insert(argv.end(), {"-t", std::to_string(s.threads)});
   argv.insert(argv.end(), {"--seed", std::to_string(seed), "--no-progress", "-f", out_dir + "/render.png", "--pfm",
@@ -107,7 +113,8 @@ std::vector<std::string> render_argv(const RunSettings& s, const Case& c, int pa
 }
 
 // The files the grader reads back from a render's folder.
-const std::vector<std::string> kRenderFiles = {"render.png", "render.pfm", "render_rate.png", "stats.json"};
+const std::vector<std::string> kRenderFiles = {"render.png", "render.pfm", "render_rate.png", "stats.json",
+                                               kProbabilityImageFile};
 
 // Each step below checks one thing about a render's files; false with
 // *failure set when it is wrong.

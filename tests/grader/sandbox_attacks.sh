@@ -61,6 +61,11 @@ make_secret() {
   { echo "# $canary"; grep '^p1_teapot ' "$src/grader/cases.txt"; } >"$1/cases.txt"
   mkdir -p "$1/refs"
   cp -R "$src/reference_images/p1_teapot" "$1/refs/"
+  # The reference's control also grades a case of every other output the
+  # grader reads back: a probability case (its --env-probability image, and
+  # an -e input file staged).
+  grep '^p8_probability_sun ' "$src/grader/cases.txt" >>"$1/cases.txt"
+  cp -R "$src/reference_images/p8_probability_sun" "$1/refs/"
   echo "$canary" >"$1/refs/p1_teapot/canary.txt"
   cp "$grader" "$1/grader"
 }
@@ -130,12 +135,14 @@ chmod 755 "$work/hostile"
 "$secret/grader" run --pathtracer "$pathtracer" --cases "$secret/cases.txt" --references "$secret/refs" \
   --scenes "$src/scenes" -q -j 1 -o "$secret/ok" --sandbox "$mode" "${accounts[@]}" >"$work/control.log" 2>&1
 control=$?
-check "the reference pathtracer passes p1_teapot through the $mode sandbox (exit $control)" [ "$control" = 0 ]
+check "the reference pathtracer passes p1_teapot and p8_probability_sun through the $mode sandbox (exit $control)" \
+  [ "$control" = 0 ]
+[ "$control" = 0 ] || grep -E "failed|error" "$work/control.log" | head -5
 if [ "$(id -u)" = 0 ]; then
   make_secret "$work/open"
   sed "s#$secret#$work/open#g" "$work/hostile" >"$work/hostile_open" && chmod 755 "$work/hostile_open"
   "$work/open/grader" run --pathtracer "$work/hostile_open" --cases "$work/open/cases.txt" --references "$work/open/refs" \
-    --scenes "$src/scenes" -q -j 1 -o "$work/open/out" --sandbox none >"$work/open.log" 2>&1
+    --case p1_teapot --scenes "$src/scenes" -q -j 1 -o "$work/open/out" --sandbox none >"$work/open.log" 2>&1
   check "without the sandbox the same script reads the references (the checks can fail)" \
     grep -q "LEAK: read the references" "$work/open/out/cases/p1_teapot/render/stdout.txt"
   pkill -f "$daemon_tag" 2>/dev/null
@@ -144,7 +151,7 @@ if [ "$(id -u)" = 0 ]; then
 fi
 
 "$secret/grader" run --pathtracer "$work/hostile" --cases "$secret/cases.txt" --references "$secret/refs" \
-  --scenes "$src/scenes" -q -j 2 -o "$out" --sandbox "$mode" "${accounts[@]}" >"$work/grader.log" 2>&1
+  --case p1_teapot --scenes "$src/scenes" -q -j 2 -o "$out" --sandbox "$mode" "${accounts[@]}" >"$work/grader.log" 2>&1
 rc=$?
 cat "$work/grader.log" | tail -3
 check "the grader finished and failed the hostile case (exit $rc, 1 expected)" [ "$rc" = 1 ]

@@ -123,7 +123,7 @@ Renders render_candidate(const RunSettings& run, const RenderPlan& plan, uint64_
   for (int k = 0; k < plan.renders; ++k) {
     const std::string dir = case_dir + (k == 0 ? "/render" : "/render_" + std::to_string(k));
     // A probability case's first render also writes the map's probability image.
-    const Case rc = k == 0 ? with_probability_image(plan.c, dir) : plan.c;
+    const Case rc = k == 0 ? with_probability_image(plan.c) : plan.c;
     RenderOutput out = render_case(run, rc, plan.c.part, candidate_seed(seed, k), dir, plan.c.kind == CaseKind::Rate);
     r->seconds += out.seconds;
     if (r->log.empty() || !out.ok) r->log = out.log;

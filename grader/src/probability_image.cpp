@@ -18,11 +18,11 @@ double decades(float grey) { return 6.0 * double(grey) / 255.0 - 3.0; }
 
 }  // namespace
 
-Case with_probability_image(const Case& c, const std::string& dir) {
+Case with_probability_image(const Case& c) {
   if (c.kind != CaseKind::Probability) return c;
   Case p = c;
   p.options.push_back("--env-probability");
-  p.options.push_back((std::filesystem::absolute(dir) / kProbabilityImageFile).string());
+  p.options.push_back(kProbabilityImageFile);  // a name in the render's folder (render_argv)
   return p;
 }
 

@@ -29,10 +29,10 @@ namespace grader {
 // The picture's name in a render's folder and in the reference's.
 constexpr const char* kProbabilityImageFile = "env_probability.png";
 
-// A probability case with --env-probability <dir>/env_probability.png
-// added (the path made absolute: a render runs in its folder); any other
-// case as it is.
-Case with_probability_image(const Case& c, const std::string& dir);
+// A probability case with --env-probability added, asking its render for
+// the map's picture (render_case writes it into the render's folder, as
+// env_probability.png); any other case as it is.
+Case with_probability_image(const Case& c);
 
 constexpr double kProbabilityDecades = 0.5;
 constexpr double kProbabilityOffFraction = 0.02;

@@ -228,7 +228,7 @@ bool measure_part1(const Case& c, const MakeSettings& s, double* seconds, double
 // the reference's folder (before meta.json, which marks it complete).
 bool make_probability_image(const Case& c, const MakeSettings& s, const std::string& dir, std::string* message) {
   const std::string run_dir = s.work_dir + "/" + c.name + "_probability";
-  RenderOutput out = render_case(s.run, with_probability_image(c, run_dir), c.part, s.first_seed, run_dir, false);
+  RenderOutput out = render_case(s.run, with_probability_image(c), c.part, s.first_seed, run_dir, false);
   std::error_code ec;
   fs::create_directories(dir, ec);
   fs::remove(dir + "/meta.json", ec);

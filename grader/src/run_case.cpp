@@ -99,11 +99,11 @@ std::vector<std::string> render_argv(const RunSettings& s, const Case& c, int pa
   size_t next_input = 1;  // inputs[0] is the scene
   for (size_t i = 0; i < c.options.size(); ++i) {
     const bool names_file = i > 0 && (c.options[i - 1] == "-e" || c.options[i - 1] == "-c");
-    // An output the grader asks for (a probability case's image) is written
-    // into out_dir like the render, whatever folder the case named: in a
-    // sandbox only out_dir is writable, and only it is read back.
+    // An output the grader asks for (a probability case's image, by its
+    // file name) goes into out_dir like the render: in a sandbox only
+    // out_dir is writable, and only it is read back.
     const bool names_output = i > 0 && c.options[i - 1] == "--env-probability";
-    if (names_output) argv.push_back(out_dir + "/" + kProbabilityImageFile);
+    if (names_output) argv.push_back(out_dir + "/" + c.options[i]);
     else argv.push_back(names_file && next_input < inputs.size() ? path_of(inputs[next_input++]) : c.options[i]);
   }
   argv.insert(argv.end(), {"-t", std::to_string(s.threads)});

@@ -101,30 +101,27 @@ def read_regular(path, limit):
         os.close(fd)
 
 
+def holds(path, data):
+    """path is a regular file (not a link) holding exactly data."""
+    try:
+        st_ = os.lstat(path)
+        if not stat.S_ISREG(st_.st_mode) or st_.st_size != len(data):
+            return False
+        with open(path, "rb") as f:
+            return f.read() == data
+    except OSError:
+        return False
+
+
 def same_as_kit(path, kit_path):
     """A regular file with the same bytes as the kit's file of that name."""
     try:
-        if not stat.S_ISREG(os.lstat(path).st_mode) or not stat.S_ISREG(os.lstat(kit_path).st_mode):
-            return False
         if os.lstat(path).st_size != os.lstat(kit_path).st_size:
             return False
     except OSError:
         return False
     mine = read_regular(path, MAX_TOTAL_BYTES)
-    with open(kit_path, "rb") as f:
-        return mine is not None and mine == f.read()
-
-
-def unchanged(dest, data):
-    """dest is a regular file (of the kit's tree) holding exactly data."""
-    try:
-        st_ = os.lstat(dest)
-        if not stat.S_ISREG(st_.st_mode) or st_.st_size != len(data):
-            return False
-        with open(dest, "rb") as f:
-            return f.read() == data
-    except OSError:
-        return False
+    return mine is not None and holds(kit_path, mine)
 
 
 def group_line(ignored):
@@ -225,7 +222,7 @@ def cmd_intake(a):
             dest = os.path.join(dest_dir, name)
             if os.path.islink(dest):
                 os.unlink(dest)
-            elif unchanged(dest, data):
+            elif holds(dest, data):
                 # The kit's own bytes: the file keeps the kit's time, so the
                 # warm build folder's object for it stays valid (make
                 # recompiles only what the submission changed).

@@ -97,9 +97,10 @@ Check check_stopped_noise(double stopped_ratio, double bound, double credit_shar
   k.name = "rate";
   k.credit = points;
   if (stopped_ratio < 0) return k;
-  k.metric = fmt("; where pixels stop early, variance %.2fx the reference's", stopped_ratio);
+  k.metric = fmt("; where pixels stop early, variance %.2fx the reference's (mean per pixel)", stopped_ratio);
   if (stopped_ratio <= bound) return k;
-  k.problems.push_back(fmt("pixels stop too early: where they stop before -s, the image's variance is %.2fx ", stopped_ratio) +
+  k.problems.push_back(fmt("pixels stop too early: where they stop before -s, the image's variance per pixel is %.2fx ",
+                           stopped_ratio) +
                        fmt("the reference's (at most %.1fx: the rule 1.96 sigma / sqrt(n) <= T mu leaves about the ", bound) +
                        "reference's noise, whatever the estimator; is it tested once per batch, with sigma, not sigma^2?)");
   k.credit = credit_share * points;

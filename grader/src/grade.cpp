@@ -232,7 +232,7 @@ Check rate_check(const Case& c, const Reference& ref, const Renders& rs, const R
   if (rate.mean_reference > 0) (*signature)["rate_ratio"] = rate.mean_candidate / rate.mean_reference;
   if (rate.channels_tested > 0) (*signature)["rate_failed_fraction"] = double(rate.channels_failed) / rate.channels_tested;
   Check k = check_rate_image(rate, c.points, "the reference's: a rate above it fails");
-  const double stopped = stopped_noise_ratio(rs.radiance, ref.variance, ref.rate_mean, ScoreOptions().noise_cap);
+  const double stopped = stopped_noise_ratio(rs.radiance, ref.variance, ref.rate_mean, rules.stopped_noise_cap);
   const Check noise = check_stopped_noise(stopped, rules.stopped_noise_bound, rules.noise_credit, c.points);
   k.metric += noise.metric;
   k.problems.insert(k.problems.end(), noise.problems.begin(), noise.problems.end());

@@ -40,7 +40,12 @@ struct Rules {
   // Part 5: where pixels stop before -s, a correct rule leaves about the
   // reference's noise whatever the estimator (scoring.h's
   // stopped_noise_ratio); more than this many times it stops too early.
+  // Each pixel channel's ratio counts up to stopped_noise_cap: a correct
+  // build's one pixel that a rare path lights in one render (p5_sky) must
+  // not move the mean of a few hundred channels; a rule that stops too
+  // early is noisier everywhere (2 to 8 times), far below the cap.
   double stopped_noise_bound = 1.5;
+  double stopped_noise_cap = 10.0;
   // Cases that keep only the paths of exactly -m bounces (-o 0) let the
   // legal choices' extra noise compound at every bounce (roulette at 0.5
   // rather than 0.7 costs 1.4 times the variance per bounce, uniform bounce

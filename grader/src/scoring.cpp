@@ -276,24 +276,36 @@ double stopped_noise_ratio(const CandidateRenders& radiance, const ImageBuffer& 
                            const ImageBuffer& ref_rate_mean, double cap) {
   const size_t k = radiance.images.size();
   if (k < 2) return -1;
-  double num = 0, den = 0;
+  // Chosen by the reference's rate alone: choosing by the candidate's too
+  // would pick the pixels where its renders happened to stop early, on a
+  // lucky run of samples, and so were noisier than the same pixel's full
+  // renders that the reference's variance mostly holds.
+  std::vector<size_t> stopped;
+  double total = 0;
   for (size_t i = 0; i < ref_variance.pixels.size(); ++i) {
-    // Chosen by the reference's rate alone: choosing by the candidate's
-    // too would pick the pixels where its renders happened to stop early,
-    // on a lucky run of samples, and so were noisier than the same pixel's
-    // full renders that the reference's variance mostly holds.
     if (!(ref_rate_mean.pixels[i][0] < 1.0 - 1e-6)) continue;
-    for (int c = 0; c < 3; ++c) {
-      double sum = 0, ss = 0;
-      for (const ImageBuffer& img : radiance.images) sum += img.pixels[i][c];
-      const double mean = sum / double(k);
-      for (const ImageBuffer& img : radiance.images) ss += (img.pixels[i][c] - mean) * (img.pixels[i][c] - mean);
-      const double vr = ref_variance.pixels[i][c];
-      num += std::min(ss / double(k - 1) * radiance.share, cap * vr);
-      den += vr;
-    }
+    stopped.push_back(i);
+    for (int c = 0; c < 3; ++c) total += ref_variance.pixels[i][c];
   }
-  return den > 0 ? num / den : -1;
+  if (stopped.empty() || !(total > 0)) return -1;
+  // A channel without noise in the reference (an emitter, a black
+  // background) has no ratio to give; nor has one whose variance is float
+  // rounding next to the others'.
+  const double floor = 1e-6 * total / double(3 * stopped.size());
+  double sum = 0;
+  int counted = 0;
+  for (size_t i : stopped)
+    for (int c = 0; c < 3; ++c) {
+      const double vr = ref_variance.pixels[i][c];
+      if (!(vr > floor)) continue;
+      double mean = 0, ss = 0;
+      for (const ImageBuffer& img : radiance.images) mean += img.pixels[i][c];
+      mean /= double(k);
+      for (const ImageBuffer& img : radiance.images) ss += (img.pixels[i][c] - mean) * (img.pixels[i][c] - mean);
+      sum += std::min(ss / double(k - 1) * radiance.share / vr, cap);
+      ++counted;
+    }
+  return counted >= kStoppedNoiseMinChannels ? sum / counted : -1;
 }
 
 ImageBuffer mean_of(const std::vector<ImageBuffer>& images) {

@@ -176,12 +176,16 @@ ImageScore score_image(const ImageBuffer& candidate, const ImageBuffer& mean, co
 // estimator: a less noisy estimator gets there with fewer samples. So
 // where pixels stop early, a correct rule leaves about the reference's
 // noise in the image (less where a pixel stops at its first batch), and a
-// rule that stops too early leaves more. This is the candidate's variance
-// of one render over the reference's, summed over the pixels where the
-// reference's renders stopped before -s (its mean rate below 1), each pixel
-// channel's share capped at `cap` times the reference's; -1 when there are
-// none or the reference has no noise there. `radiance`: the candidate's
+// rule that stops too early leaves more. This is the mean, over the pixel
+// channels where the reference's renders stopped before -s (its mean rate
+// below 1) and have noise, of the candidate's variance of one render over
+// the reference's, each capped at `cap`: every pixel counts the same, so a
+// few pixels of enormous variance (the edge of a light seen directly,
+// whose 4-render variance is itself very noisy) cannot make a correct
+// build look noisy or a wrong one quiet. -1 when fewer than
+// kStoppedNoiseMinChannels channels qualify. `radiance`: the candidate's
 // renders (each with the whole -s); `ref_rate_mean`: the reference's rate.
+constexpr int kStoppedNoiseMinChannels = 30;
 double stopped_noise_ratio(const CandidateRenders& radiance, const ImageBuffer& ref_variance,
                            const ImageBuffer& ref_rate_mean, double cap);
 

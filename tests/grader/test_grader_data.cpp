@@ -137,11 +137,11 @@ TEST_CASE("Stopped-noise check: pixels that stop early must leave about the refe
   const Check ok = check_stopped_noise(0.8, 1.5, 0.5, 2.0);        // a less noisy estimator stopping earlier
   CHECK(ok.problems.empty());
   CHECK(ok.credit == 2.0);
-  CHECK(ok.metric == "; where pixels stop early, variance 0.80x the reference's");
+  CHECK(ok.metric == "; where pixels stop early, variance 0.80x the reference's (mean per pixel)");
   const Check early = check_stopped_noise(2.1, 1.5, 0.5, 2.0);
   REQUIRE(early.problems.size() == 1);
   CHECK_THAT(early.problems[0], Catch::StartsWith("pixels stop too early: where they stop before -s, the image's "
-                                                  "variance is 2.10x the reference's (at most 1.5x"));
+                                                  "variance per pixel is 2.10x the reference's (at most 1.5x"));
   CHECK(early.credit == 1.0);
 }
 

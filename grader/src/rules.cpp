@@ -105,6 +105,13 @@ RenderPlan render_plan(const Case& c, bool deterministic, const Rules& rules) {
   const int spp = case_int_option(c, "-s", 1);
   // Adaptive sampling's -s is the rule's maximum, not a budget to share.
   if (c.kind == CaseKind::Rate || spp % rules.renders != 0 || spp / rules.renders < 2) return p;
+  // From part 5 on every render samples adaptively, and a pixel that may
+  // stop after a batch is a different estimator at another -s: it stops
+  // most often before a rare bright path came (light seen through glass),
+  // so its expectation depends on -s. Split, the renders could not stop
+  // at all. Only where the whole -s is one batch or less (no pixel stops
+  // early either way) do the renders share it.
+  if (c.part >= 5 && case_int_option(c, "-a", kDefaultAdaptiveBatch) < spp) return p;
   for (size_t i = 0; i + 1 < p.c.options.size(); ++i)
     if (p.c.options[i] == "-s") p.c.options[i + 1] = std::to_string(spp / rules.renders);
   p.share = 1.0 / rules.renders;

@@ -84,6 +84,10 @@ std::string case_method(const Case& c);
 
 // The candidate's renders of a case: the case as each render runs it (with
 // its share of -s), how many, and each render's share of the samples.
+// Renders from part 5 on share -s only when it is at most one batch of
+// adaptive sampling (-a B, by default the renderer's 32): otherwise each
+// takes the whole -s, as the reference's renders did.
+constexpr int kDefaultAdaptiveBatch = 32;  // stages/part5_adaptive_sampling: AdaptiveOptions::batch
 struct RenderPlan {
   Case c;
   int renders = 1;

@@ -72,7 +72,9 @@ print("%g of %g" % (d["score"], sum(t.get("max_score") or 0 for t in d.get("test
 EOF
   )
   times[$mode]+="$(python3 -c "print(f'{$t1 - $t0:.2f}')") "
-  printf 'round %d  %-5s %7.2f s  (score %s; %s)\n' "$2" "$mode" "$(python3 -c "print($t1 - $t0)")" "$score" \
+  printf 'round %d  %-5s %7.2f s  (build %s s, grading %s s; score %s; %s)\n' "$2" "$mode" \
+    "$(python3 -c "print($t1 - $t0)")" "$(sed -n 's/^== Build: \([0-9]*\) s$/\1/p' "$base/run-$mode-$2.log")" \
+    "$(sed -n 's/^== Grading: \([0-9]*\) s$/\1/p' "$base/run-$mode-$2.log")" "$score" \
     "$(grep -m1 '^== Sandbox' "$base/run-$mode-$2.log" | sed 's/^== //')"
 }
 echo "bench_sandbox: $rounds rounds, grader arguments: $grader_args; load average at the start: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -1,5 +1,6 @@
 #include "grader/src/sandbox.h"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <grp.h>
 #include <pwd.h>
@@ -13,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -211,6 +213,93 @@ void check_sandbox(const Sandbox& sandbox, int jobs, const std::vector<std::stri
       throw std::runtime_error("--sandbox user: account " + a.name + " can read " +
                                readable.substr(0, readable.find('\n')) +
                                "; make the references, case lists, grader and output folder readable by root only");
+  }
+}
+
+namespace {
+
+// A file's bytes, or nothing when it cannot be read whole.
+bool read_whole(const std::string& path, std::string* out) {
+  const int fd = open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return false;
+  out->clear();
+  char buf[1 << 16];
+  ssize_t n;
+  while ((n = read(fd, buf, sizeof buf)) > 0) out->append(buf, size_t(n));
+  close(fd);
+  return n == 0;
+}
+
+}  // namespace
+
+void check_no_copies(const Sandbox& sandbox, const std::vector<std::string>& keys, const std::string& search_root) {
+  if (sandbox.mode != SandboxMode::User || sandbox.accounts.empty()) return;
+  // The key's files by size, then by bytes: only a file of a key file's
+  // size is read. Small files (a few bytes could match anything) are left
+  // out; every reference image and case list is far larger.
+  std::map<uintmax_t, std::vector<size_t>> by_size;  // size -> hashes of the bytes
+  for (const std::string& k : keys)
+    for (const std::string& p : paths_under(k, 100000)) {
+      std::error_code ec;
+      if (!fs::is_regular_file(fs::symlink_status(p, ec))) continue;
+      const uintmax_t size = fs::file_size(p, ec);
+      std::string bytes;
+      if (!ec && size >= 256 && read_whole(p, &bytes)) by_size[size].push_back(std::hash<std::string>()(bytes));
+    }
+  if (by_size.empty()) return;
+  for (const Account& a : sandbox.accounts) {
+    int pipe_fd[2];
+    if (pipe(pipe_fd) != 0) throw std::runtime_error("cannot check the sandbox: pipe failed");
+    as_account(&a, [&] {
+      close(pipe_fd[0]);
+      // As the account: every folder it may enter, no link followed, not
+      // the kernel's file systems. A folder that cannot be read, or an
+      // entry gone meanwhile (other runs' files in /tmp), is passed over;
+      // the walk goes on.
+      std::vector<std::string> folders = {search_root};
+      std::string bytes;
+      while (!folders.empty()) {
+        const std::string dir = folders.back();
+        folders.pop_back();
+        DIR* d = opendir(dir.c_str());
+        if (!d) continue;
+        while (const dirent* e = readdir(d)) {
+          const std::string name = e->d_name;
+          if (name == "." || name == "..") continue;
+          const std::string p = (dir == "/" ? "" : dir) + "/" + name;
+          if (p == "/proc" || p == "/sys" || p == "/dev" || p == "/run") continue;
+          struct stat st;
+          if (lstat(p.c_str(), &st) != 0) continue;
+          if (S_ISDIR(st.st_mode)) {
+            folders.push_back(p);
+            continue;
+          }
+          if (!S_ISREG(st.st_mode)) continue;
+          const auto same = by_size.find(uintmax_t(st.st_size));
+          if (same == by_size.end() || !read_whole(p, &bytes)) continue;
+          const size_t h = std::hash<std::string>()(bytes);
+          for (size_t key : same->second)
+            if (h == key) {
+              closedir(d);
+              const std::string line = p + "\n";
+              if (write(pipe_fd[1], line.data(), line.size()) < 0) return 3;
+              return 1;
+            }
+        }
+        closedir(d);
+      }
+      return 0;
+    });
+    close(pipe_fd[1]);
+    std::string found;
+    char buf[1024];
+    ssize_t n;
+    while ((n = read(pipe_fd[0], buf, sizeof buf)) > 0) found.append(buf, size_t(n));
+    close(pipe_fd[0]);
+    if (!found.empty())
+      throw std::runtime_error("--sandbox user: account " + a.name + " can read " + found.substr(0, found.find('\n')) +
+                               ", a copy of a hidden case's file; in user mode the accounts see every file the "
+                               "machine lets others read: remove the copy or make it unreadable, or use --sandbox bwrap");
   }
 }
 

@@ -63,6 +63,15 @@ int job_slot();
 // wrong and what to do.
 void check_sandbox(const Sandbox& sandbox, int jobs, const std::vector<std::string>& secrets);
 
+// Mode User only: the accounts see every file of the machine that others
+// may read, so a copy of the hidden cases' files anywhere (an instructor's
+// checkout, a test's folder, an unpacked zip) would hand them the answer
+// key. Searches `search_root` as each account (not /proc, /sys, /dev, /run;
+// no link followed) for a readable file with the bytes of any file under
+// `keys` (256 bytes or more) and throws naming the first one found. The
+// public cases and references are not keys: the starter kit ships them.
+void check_no_copies(const Sandbox& sandbox, const std::vector<std::string>& keys, const std::string& search_root = "/");
+
 // One render's staging folder: made by stage(), removed by its destructor.
 class Staging {
  public:

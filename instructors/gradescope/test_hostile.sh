@@ -80,6 +80,10 @@ if [ -z "$work" ]; then
 fi
 mkdir -p "$work"
 work=$(cd "$work" && pwd)
+# The hidden cases made here are an instructor's private copy: in user mode
+# the accounts see every file others may read, and the grader refuses to
+# grade while a copy of a hidden case's file is readable.
+chmod 0700 "$work"
 # The AUTOGRADER_ROOT, under /tmp whatever WORK is: the accounts must pass
 # through every folder above it.
 agbase=/tmp/pt-hostile-$(printf '%s' "$work" | sha1sum | cut -c1-10)
@@ -251,7 +255,20 @@ step_a() {
   append_trick "$(base_submission a)" "$here/hostile/a_read_references.inc"
   grade a
   common_checks a
-  no_gain a
+  if grep -q "^== Sandbox: user" "$work/runs/a/log.txt"; then
+    # In user mode the accounts may read any copy of the public references
+    # the machine lets others read (here this checkout's; on Gradescope the
+    # submission's own, as in h): what no sandbox can keep from a student.
+    # The hidden case is what must stay out of reach.
+    local s b
+    s=$(scores "$work/runs/a/results.json")
+    b=$(cat "$work/scores/base")
+    echo "  a (user mode): score ${s%% *} (public $(echo "$s" | cut -d' ' -f2), hidden ${s##* }); base ${b%% *}"
+    check "a: gains nothing on the hidden case (${s##* } <= the base's ${b##* })" \
+      python3 -c 'import sys; sys.exit(0 if float(sys.argv[1]) <= float(sys.argv[2]) else 1)' "${s##* }" "${b##* }"
+  else
+    no_gain a
+  fi
 }
 
 step_b() {

@@ -170,6 +170,40 @@ check "the linked reference was not read as its image" \
   grep -q "not read" "$out/cases/p1_teapot/result.json"
 check "no staging folder left in /tmp" bash -c "! ls -d /tmp/pt-render-* 2>/dev/null | xargs -r -n1 stat -c %U | grep -q pt-sbx-$mode"
 
+# A copy of a hidden case's reference left readable elsewhere on the
+# machine (an instructor's checkout, a test's folder): bubblewrap's view of
+# the file system leaves it out; in user mode, where the accounts see every
+# file others may read, the grader searches for such copies as each account
+# and refuses to grade while one is there. The hidden case is of a size no
+# other case has, so that its reference's bytes are its own.
+if [ "$(id -u)" = 0 ]; then
+  mkdir -m 700 "$secret/hidden"
+  printf 'h1_stray     1 image 1 60 CBspheres_lambertian.dae -r 37 29\n' >"$secret/hidden/cases.txt"
+  "$secret/grader" make-references --pathtracer "$pathtracer" --runs 2 --case h1_stray --cases "$secret/hidden/cases.txt" \
+    --scenes "$src/scenes" --references "$secret/hidden/references" --work "$secret/hidden/work" -j 1 \
+    >"$work/hidden_reference.log" 2>&1
+  mkdir -p "$work/stray"
+  cp "$secret/hidden/references/h1_stray/mean.pfm" "$work/stray/mean.pfm"
+  chmod 644 "$work/stray/mean.pfm"
+  hidden_run() {  # hidden_run OUT: the reference pathtracer on p1_teapot and the hidden case; its exit status
+    "$secret/grader" run --pathtracer "$pathtracer" --cases "$secret/cases.txt" --references "$secret/refs" \
+      --hidden-cases "$secret/hidden/cases.txt" --case p1_teapot --case h1_stray --scenes "$src/scenes" -q -j 2 \
+      -o "$secret/$1" --sandbox "$mode" "${accounts[@]}" >"$work/$1.log" 2>&1
+  }
+  hidden_run stray_present
+  rc=$?
+  if [ "$mode" = user ]; then
+    check "user mode refuses to grade while a hidden reference's copy is readable, naming it (exit $rc)" \
+      bash -c "[ $rc != 0 ] && grep -q 'can read $work/stray/mean.pfm, a copy of a hidden case' '$work/stray_present.log'"
+  else
+    check "bwrap mode does not see the copy and grades (exit $rc)" [ "$rc" = 0 ]
+  fi
+  rm -rf "$work/stray"
+  hidden_run stray_removed
+  rc=$?
+  check "without the copy the reference passes the public and the hidden case in the $mode sandbox (exit $rc)" [ "$rc" = 0 ]
+fi
+
 if [ "$failures" -ne 0 ]; then
   echo "$failures check(s) failed; the grader's log: $work/grader.log"
   exit 1

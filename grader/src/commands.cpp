@@ -171,6 +171,7 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
                                         executable_dir() + "/grader"};
     if (!common.hidden_cases.empty()) secrets.insert(secrets.end(), {common.hidden_cases, common.hidden_reference_root()});
     check_sandbox(run.sandbox, common.jobs, secrets);
+    lock_accounts(run.sandbox, fs::is_directory("/run/lock") ? "/run/lock" : run.sandbox.root);
     if (!common.hidden_cases.empty())
       check_no_copies(run.sandbox, {fs::path(common.hidden_cases).parent_path().string(), common.hidden_reference_root()});
   }

@@ -5,12 +5,14 @@
 #include <grp.h>
 #include <pwd.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -213,6 +215,19 @@ void check_sandbox(const Sandbox& sandbox, int jobs, const std::vector<std::stri
       throw std::runtime_error("--sandbox user: account " + a.name + " can read " +
                                readable.substr(0, readable.find('\n')) +
                                "; make the references, case lists, grader and output folder readable by root only");
+  }
+}
+
+void lock_accounts(const Sandbox& sandbox, const std::string& lock_dir) {
+  for (const Account& a : sandbox.accounts) {
+    const std::string path = lock_dir + "/pt-grader-account-" + a.name + ".lock";
+    // Kept open (and locked) until the process ends.
+    const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
+    if (fd < 0) throw std::runtime_error("cannot open " + path + " to lock the account " + a.name + ": " + std::strerror(errno));
+    if (flock(fd, LOCK_EX | LOCK_NB) == 0) continue;
+    std::fprintf(stderr, "grader: waiting for another grader that renders as %s (%s)\n", a.name.c_str(), path.c_str());
+    while (flock(fd, LOCK_EX) != 0)
+      if (errno != EINTR) throw std::runtime_error("cannot lock " + path + ": " + std::strerror(errno));
   }
 }
 

@@ -63,6 +63,13 @@ int job_slot();
 // wrong and what to do.
 void check_sandbox(const Sandbox& sandbox, int jobs, const std::vector<std::string>& secrets);
 
+// After each render the grader kills every process of its account, so two
+// graders rendering as the same account at once would kill each other's
+// renders ("killed by signal 9"). Locks a file per account in `lock_dir`
+// for as long as this process lives, waiting (and saying so on stderr)
+// while another grader holds it. Throws when a lock file cannot be opened.
+void lock_accounts(const Sandbox& sandbox, const std::string& lock_dir);
+
 // Mode User only: the accounts see every file of the machine that others
 // may read, so a copy of the hidden cases' files anywhere (an instructor's
 // checkout, a test's folder, an unpacked zip) would hand them the answer

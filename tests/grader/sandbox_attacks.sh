@@ -204,6 +204,37 @@ if [ "$(id -u)" = 0 ]; then
   check "without the copy the reference passes the public and the hidden case in the $mode sandbox (exit $rc)" [ "$rc" = 0 ]
 fi
 
+# Two graders rendering as the same accounts at once would kill each
+# other's renders (each kills its account's processes after a render): a
+# grader waits while another holds an account. Here the test holds the
+# first account's lock; the grader says it waits (read through a fifo: the
+# line is the event), has graded nothing meanwhile, and once the lock is
+# let go grades the reference to full marks. (The grader must not inherit
+# the test's lock: a lock is its open file, and the grader's own would
+# wait for it.)
+if [ "$(id -u)" = 0 ]; then
+  lockdir=/run/lock
+  [ -d "$lockdir" ] || lockdir=/tmp
+  exec 7>"$lockdir/pt-grader-account-pt-sbx-$mode-1.lock"
+  flock 7
+  mkfifo "$work/wait_fifo"
+  "$secret/grader" run --pathtracer "$pathtracer" --cases "$secret/cases.txt" --references "$secret/refs" \
+    --case p1_teapot --scenes "$src/scenes" -q -j 2 -o "$secret/after_wait" --sandbox "$mode" "${accounts[@]}" \
+    >"$work/after_wait.log" 2>"$work/wait_fifo" 7>&- &
+  waiter=$!
+  exec 6<"$work/wait_fifo"
+  read -r first_line <&6
+  check "a second grader on the same accounts says it waits ($first_line)" \
+    bash -c "[[ '$first_line' == *'waiting for another grader that renders as pt-sbx-$mode-1'* ]]"
+  check "and has graded nothing while it waits" bash -c "[ ! -e '$secret/after_wait/results.json' ]"
+  exec 7>&-
+  cat <&6 >/dev/null
+  exec 6<&-
+  wait "$waiter"
+  rc=$?
+  check "once the lock is free it grades the reference to full marks (exit $rc)" [ "$rc" = 0 ]
+fi
+
 if [ "$failures" -ne 0 ]; then
   echo "$failures check(s) failed; the grader's log: $work/grader.log"
   exit 1

@@ -305,8 +305,8 @@ TEST_CASE("A lower sample rate passes when the build's own noise where pixels st
   CHECK(c_fail == 20);
 }
 
-// Where a light's edge is seen directly (h5_spheres_turned: a turned camera
-// looking at the ceiling light), a few pixels that stop early hold almost
+// Where a light's edge is seen directly (a hidden part-5 case: a turned
+// camera looking at the ceiling light), a few pixels that stop early hold almost
 // all of the variance, and each is a rare hit of an enormous value: four
 // renders' variance of such a pixel is itself very noisy. Summed over the
 // pixels, those few made a correct build's ratio swing from 0.6 to 1.8

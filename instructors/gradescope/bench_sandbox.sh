@@ -36,23 +36,8 @@ done
 [[ "$rounds" =~ ^[1-9][0-9]*$ ]] || { echo "bench_sandbox: --rounds $rounds: expected a positive number" >&2; exit 2; }
 [ "$(id -u)" = 0 ] || { echo "bench_sandbox: needs root (the sandbox's accounts)" >&2; exit 2; }
 
-if [ -n "$keep" ]; then
-  mkdir -p "$keep"
-  base=$(cd "$keep" && pwd)
-else
-  base=$(mktemp -d /tmp/bench-sandbox.XXXXXX)
-  trap 'rm -rf "$base"' EXIT
-fi
-chmod 0711 "$base"
-ag=$base/ag
-if [ ! -f "$ag/pt/manifest.txt" ]; then
-  rm -rf "$ag"
-  echo "bench_sandbox: making and setting up the package in $ag (once)"
-  "$here/make_autograder.sh" --unpacked "$ag/source" >"$base/zip.log" 2>&1 || { cat "$base/zip.log"; exit 1; }
-  (cd "$ag/source" && AUTOGRADER_ROOT=$ag AUTOGRADER_SKIP_APT=1 bash ./setup.sh) >"$base/setup.log" 2>&1 ||
-    { tail -30 "$base/setup.log"; exit 1; }
-  cp "$ag/source/run_autograder" "$ag/run_autograder"
-fi
+. "$here/local_package.sh"
+local_package bench_sandbox "$keep"
 sub=$base/submission
 rm -rf "$sub"
 mkdir -p "$sub/kit"

@@ -37,24 +37,8 @@ done
 [[ "$seed" =~ ^[0-9]+$ ]] || { echo "through_package: --seed $seed: expected a number" >&2; exit 2; }
 [ "$(id -u)" = 0 ] || { echo "through_package: needs root (the sandbox's accounts)" >&2; exit 2; }
 
-if [ -n "$keep" ]; then
-  mkdir -p "$keep"
-  base=$(cd "$keep" && pwd)
-else
-  base=$(mktemp -d /tmp/through-package.XXXXXX)
-  trap 'rm -rf "$base"' EXIT
-fi
-chmod 0711 "$base"
-ag=$base/ag
-if [ ! -f "$ag/pt/manifest.txt" ]; then
-  rm -rf "$ag"
-  echo "through_package: making and setting up the package in $ag (once)"
-  "$root/instructors/gradescope/make_autograder.sh" --unpacked "$ag/source" >"$base/zip.log" 2>&1 ||
-    { cat "$base/zip.log"; exit 2; }
-  (cd "$ag/source" && AUTOGRADER_ROOT=$ag AUTOGRADER_SKIP_APT=1 bash ./setup.sh) >"$base/setup.log" 2>&1 ||
-    { tail -30 "$base/setup.log"; exit 2; }
-  cp "$ag/source/run_autograder" "$ag/run_autograder"
-fi
+. "$root/instructors/gradescope/local_package.sh"
+local_package through_package "$keep"
 
 names=(reference)
 while read -r name _; do

@@ -105,9 +105,10 @@ struct CostSamples {
 // render_plan): several renders, each with its share of -s, their counts
 // summed before the ratios are taken. One render at the whole -s can cost
 // differently per query: from part 5 on, adaptive sampling (-a 32 0.05 by
-// default) stops pixels of a 64-sample render early, where the grader's
-// renders of 16 samples take every sample (p8_sun_diffuse: 1.30 shadow
-// rays per query in one render of 64, 1.16 in four of 16).
+// default) stops pixels of a 64-sample render early, where renders of 16
+// samples take every sample (p8_sun_diffuse: 1.30 shadow rays per query in
+// one render of 64, 1.16 in four of 16). render_plan now gives such a case
+// its whole -s in each render; the costs follow whatever it plans.
 bool add_costs_as_graded(const Case& c, const MakeSettings& s, uint64_t seed, CostSamples* costs,
                          std::string* message) {
   const RenderPlan plan = render_plan(c, false, Rules());

@@ -213,7 +213,7 @@ int command_run(const Common& common, const std::string& out, uint64_t seed, boo
   info.jobs = common.jobs;
   info.threads = common.threads;
   info.seed = seed;
-  info.hints = run_hints(common, results);
+  info.hints = run_hints(common, results, &run, out);
   write_reports(out, results, info);
   std::printf("\n%s", terminal_table(results, info.hints).c_str());
   std::printf("Reports: %s/{report.txt,timing.md,results.json,report.html} (%.0f s)\n", out.c_str(),
@@ -232,11 +232,31 @@ Catalogue hint_catalogue(const Common& common) {
   }
 }
 
-std::vector<std::string> run_hints(const Common& common, const std::vector<CaseResult>& results) {
+std::vector<std::string> run_hints(const Common& common, const std::vector<CaseResult>& results,
+                                   const RunSettings* run, const std::string& out) {
   const Catalogue catalogue = hint_catalogue(common);
   if (catalogue.bugs.empty()) return {};
   try {
-    return hint_lines(results, catalogue, case_groups(read_cases(common.cases)));
+    const CaseGroups groups = case_groups(read_cases(common.cases));
+    // The function checks, when the build lost points somewhere (a build
+    // that passes everything gets no hints) and the references have them:
+    // run now (grader run), or read from the graded folder (grader merge).
+    const bool lost = std::any_of(results.begin(), results.end(), [](const CaseResult& r) {
+      return r.verdict != Verdict::Passed || r.score < r.max_score;
+    });
+    std::error_code ec;
+    ProbeVerdicts probes;
+    if (lost && !out.empty() && fs::is_regular_file(reference_probes_path(common.references), ec)) {
+      int max_part = 1;
+      for (const CaseResult& r : results) max_part = std::max(max_part, r.c.part);
+      std::string failure;
+      if (run && !run_probes(*run, max_part, out + "/probes", &failure))
+        std::fprintf(stderr, "grader: the function checks did not run: %s\n", failure.c_str());
+      probes = probe_verdicts_for_folder(out, common.references);
+    }
+    std::vector<std::string> lines = hint_lines(results, catalogue, groups, &probes);
+    for (const std::string& l : probe_report_lines(results, catalogue, groups, probes)) lines.push_back(l);
+    return lines;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grader: no hints: %s\n", e.what());
     return {};
@@ -273,7 +293,15 @@ int command_merge(const Common& common, const std::string& out, const std::vecto
   info.pathtracer = "(merged from " + std::to_string(shard_dirs.size()) + " shards)";
   info.started = utc_now();
   for (const auto& r : results) info.wall_seconds += r.seconds;
-  info.hints = run_hints(common, results);
+  // The function checks of the first shard that ran them.
+  std::string probed;
+  for (const std::string& d : shard_dirs)
+    if (probed.empty() && fs::is_regular_file(d + "/probes/probes.json")) probed = d;
+  if (!probed.empty() && fs::absolute(probed) != fs::absolute(out)) {
+    fs::create_directories(out + "/probes");
+    fs::copy_file(probed + "/probes/probes.json", out + "/probes/probes.json", fs::copy_options::overwrite_existing);
+  }
+  info.hints = run_hints(common, results, nullptr, probed.empty() ? "" : out);
   write_reports(out, results, info);
   std::printf("%s", terminal_table(results, info.hints).c_str());
   return exit_code_for(results);

@@ -104,8 +104,17 @@ std::string git_commit();
 
 int command_run(const Common& common, const std::string& out, uint64_t seed, bool quiet);
 // The report's hint lines for these results (none when the catalogue is
-// missing: hints are a help, not a verdict).
-std::vector<std::string> run_hints(const Common& common, const std::vector<CaseResult>& results);
+// missing: hints are a help, not a verdict), then the function checks'
+// that disagree. The checks (probes.h) run when the build lost points and
+// the references have the reference's answers: with `run`, the build is
+// checked now into out/probes/; without it, out/probes/ is read as it is
+// (empty `out`: no checks).
+// `grader functions`: the build's function checks (`pathtracer --probe`,
+// parts 1 to max_part) against the reference's, a line per function; into
+// `out`. Exit status kAllPassed when every function agrees.
+int command_functions(const Common& common, int max_part, const std::string& out);
+std::vector<std::string> run_hints(const Common& common, const std::vector<CaseResult>& results,
+                                   const RunSettings* run, const std::string& out);
 // The known bugs of --catalogue; empty (with a line on stderr when it is
 // malformed) when it cannot be read.
 Catalogue hint_catalogue(const Common& common);

@@ -205,8 +205,16 @@ Catalogue read_catalogue(const std::string& path) {
     const Json* cases = b.get("cases");
     if (!cases) throw std::runtime_error(path + ": bug " + k.name + " has no cases");
     k.cases = cases_from_json(*cases, path + ": bug " + k.name);
+    if (const Json* pd = b.get("probes_disagree"); pd && pd->type == Json::Type::Array) {
+      k.has_probes = true;
+      for (const Json& f : pd->array)
+        if (f.type == Json::Type::String) k.probes_disagree.push_back(f.string);
+    }
     cat.bugs.push_back(std::move(k));
   }
+  if (const Json* pf = j.get("probed_functions"); pf && pf->type == Json::Type::Array)
+    for (const Json& f : pf->array)
+      if (!f.str("function").empty()) cat.probed_functions.emplace_back(f.str("function"), int(f.num("part", 0)));
   cat.solved_parts = read_solved_parts(solved_parts_path(path));
   return cat;
 }
@@ -383,16 +391,161 @@ int earliest_failing_part(const BuildSignature& build, const CaseGroups& groups)
 }
 
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
-                              int max_hints, const std::string& exclude) {
+                              int max_hints, const std::string& exclude, const ProbeVerdicts* probes) {
   return likely_bugs_without(build, catalogue, groups, [&](const KnownBug& b) { return b.name == exclude; },
-                             max_hints);
+                             max_hints, probes);
 }
 
-std::vector<Hint> likely_bugs_without(const BuildSignature& build, const Catalogue& catalogue,
-                                      const CaseGroups& groups, const std::function<bool(const KnownBug&)>& left_out,
-                                      int max_hints) {
-  const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
-  if (!fails) return {};
+namespace {
+
+// Which functions' answers the checks of a function also depend on: its
+// callees among the functions students write. A function whose callee's
+// checks disagree too is named after that callee (its own checks may
+// disagree only through it).
+const std::map<std::string, std::vector<std::string>>& callees() {
+  static const std::map<std::string, std::vector<std::string>> m = {
+      {"camera_sample_ray", {"generate_ray"}},
+      {"raytrace_pixel", {"camera_sample_ray", "generate_ray"}},
+      {"raytrace_pixel_adaptive", {"pixel_converged", "camera_sample_ray", "generate_ray"}},
+      {"BVH::intersect", {"BVH::build", "slab_test", "intersect_triangle", "intersect_sphere"}},
+      {"BVH::occluded", {"BVH::build", "slab_test", "intersect_triangle", "intersect_sphere"}},
+      {"BVH::build", {"slab_test"}},
+      {"mirror_sample_f", {"reflect"}},
+      {"refraction_sample_f", {"refract"}},
+      {"glass_sample_f", {"refract", "reflect", "schlick_reflectance"}},
+      {"microfacet_f", {"microfacet_D", "microfacet_F"}},
+      {"microfacet_pdf", {"microfacet_D"}},
+      {"microfacet_sample_f", {"microfacet_f", "microfacet_D", "microfacet_F"}},
+      {"sample_environment", {"build_environment_distribution"}},
+      {"environment_pdf", {"build_environment_distribution"}},
+  };
+  return m;
+}
+
+// The part of each failing case, from its groups ("partN").
+std::vector<std::pair<std::string, int>> failing_parts(const BuildSignature& build, const CaseGroups& groups) {
+  std::vector<std::pair<std::string, int>> out;
+  for (const auto& [name, c] : build) {
+    if (!c.failed) continue;
+    int part = 0;
+    if (const auto g = groups.find(name); g != groups.end())
+      for (const std::string& group : g->second)
+        if (group.rfind("part", 0) == 0) part = std::atoi(group.c_str() + 4);
+    out.emplace_back(name, part);
+  }
+  return out;
+}
+
+// The hints from the function checks: each function that answers them
+// differently, of a part that is the students' and that some failing case
+// runs (a case of part k runs parts 1 to k), callees first, then by part.
+std::vector<Hint> probe_hints(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
+                              const ProbeVerdicts& probes, const std::set<std::string>& solved, int max_hints,
+                              const std::function<bool(const KnownBug&)>& left_out) {
+  const auto failing = failing_parts(build, groups);
+  int latest = 0;
+  for (const auto& [name, part] : failing) latest = std::max(latest, part);
+  std::vector<const ProbeVerdict*> wrong;
+  for (const auto& [function, v] : probes)
+    if (!v.agrees && v.part >= 1 && v.part <= latest && !catalogue.solved_parts.count(v.part) && !solved.count(function))
+      wrong.push_back(&v);
+  // How many of a function's callees, and theirs, disagree too: a function
+  // comes after those it calls (raytrace_pixel after camera_sample_ray
+  // after generate_ray).
+  const auto wrong_callees = [&](const ProbeVerdict* v) {
+    std::set<std::string> seen;
+    std::vector<std::string> todo = {v->function};
+    while (!todo.empty()) {
+      const std::string f = todo.back();
+      todo.pop_back();
+      const auto c = callees().find(f);
+      if (c == callees().end()) continue;
+      for (const std::string& g : c->second)
+        if (seen.insert(g).second) todo.push_back(g);
+    }
+    return int(std::count_if(seen.begin(), seen.end(), [&](const std::string& f) {
+      const auto it = probes.find(f);
+      return it != probes.end() && !it->second.agrees;
+    }));
+  };
+  // Of two functions whose checks disagree and neither calls the other, the
+  // one with a known bug nearer the build's signature first.
+  std::map<std::string, double> nearest;
+  for (const KnownBug& bug : catalogue.bugs) {
+    if (left_out(bug)) continue;
+    const double d = signature_distance(build, bug.cases, groups);
+    const auto it = nearest.find(bug.function);
+    if (it == nearest.end() || d < it->second) nearest[bug.function] = d;
+  }
+  const auto near = [&](const ProbeVerdict* v) {
+    const auto it = nearest.find(v->function);
+    return it == nearest.end() ? 1.0 : it->second;
+  };
+  std::stable_sort(wrong.begin(), wrong.end(), [&](const ProbeVerdict* a, const ProbeVerdict* b) {
+    const int da = wrong_callees(a), db = wrong_callees(b);
+    if (da != db) return da < db;
+    if (near(a) != near(b)) return near(a) < near(b);
+    return a->part < b->part;
+  });
+  std::vector<Hint> out;
+  for (const ProbeVerdict* v : wrong) {
+    if (int(out.size()) >= max_hints) break;
+    auto stand_in = std::make_shared<KnownBug>();
+    stand_in->name = "checks of " + v->function;
+    stand_in->function = v->function;
+    stand_in->part = v->part;
+    // Where the function is: as a known bug of it says, else where the
+    // known bugs of its part's stage folder are (one file per stage, but
+    // for part 1's).
+    for (const KnownBug& bug : catalogue.bugs)
+      if (bug.function == v->function && !bug.file.empty()) {
+        stand_in->file = bug.file, stand_in->readme = bug.readme;
+        break;
+      }
+    const std::string folder = "stages/part" + std::to_string(v->part) + "_";
+    for (const KnownBug& bug : catalogue.bugs)
+      if (stand_in->file.empty() && bug.file.rfind(folder, 0) == 0 && v->part != 1)
+        stand_in->file = bug.file, stand_in->readme = bug.readme;
+    if (stand_in->file.empty()) stand_in->file = stand_in->readme = "part " + std::to_string(v->part) + "'s stage folder";
+    Hint h;
+    h.from_probe = true;
+    h.checked = stand_in;
+    h.bug = stand_in.get();
+    h.words = v->function + " answers the grader's function checks differently from the reference's (" + v->detail + ")";
+    for (const auto& [name, part] : failing)
+      if (part >= v->part) h.cases.push_back(name);
+    h.text = h.words + " (" + v->function + " in " + stand_in->file + "; read " + section_of(stand_in->readme) +
+             cases_clause(h.cases, build) + ")";
+    out.push_back(h);
+  }
+  return out;
+}
+
+}  // namespace
+
+ProbeVerdicts catalogued_probes(const KnownBug& bug, const Catalogue& catalogue) {
+  ProbeVerdicts out;
+  if (!bug.has_probes) return out;
+  for (const auto& [function, part] : catalogue.probed_functions) {
+    ProbeVerdict v;
+    v.function = function;
+    v.part = part;
+    v.agrees = std::find(bug.probes_disagree.begin(), bug.probes_disagree.end(), function) == bug.probes_disagree.end();
+    if (!v.agrees) v.detail = "as catalogued";
+    out[function] = v;
+  }
+  return out;
+}
+
+namespace {
+
+// The signatures' bugs (likely_bugs_without without the function checks'
+// own hints); `probes` only moves the bugs of functions whose checks agree
+// down.
+std::vector<Hint> signature_hints(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
+                                  const std::function<bool(const KnownBug&)>& left_out, int max_hints,
+                                  const ProbeVerdicts* probes) {
+  if (max_hints <= 0) return {};
   // A case of part k runs stages 1..k only (--part k): a bug in a later
   // part cannot have failed it. Such bugs are named only when no bug that
   // could have is near (a case can fail by chance).
@@ -401,11 +554,16 @@ std::vector<Hint> likely_bugs_without(const BuildSignature& build, const Catalog
   std::vector<Hint> possible, later;
   for (const KnownBug& bug : catalogue.bugs) {
     if (left_out(bug) || names_solved_code(bug, catalogue, solved)) continue;
-    Hint h{&bug, signature_distance(build, bug.cases, groups), 0.0, "", "", {}};
+    Hint h{&bug, signature_distance(build, bug.cases, groups), 0.0, "", "", {}, false, nullptr};
     // A bug of an earlier part usually fails that part's cases too: of two
     // bugs about as near, the one of the earliest failing case's part is
     // the likelier.
     h.rank = h.distance - (earliest > 0 && bug.part == earliest ? kOwnPartBonus : 0.0);
+    // A function whose checks agree is less likely to hold the bug.
+    if (probes) {
+      const auto v = probes->find(bug.function);
+      if (v != probes->end() && v->second.agrees) h.rank += kProbeAgreePenalty;
+    }
     (earliest > 0 && bug.part > earliest ? later : possible).push_back(h);
   }
   std::vector<Hint> hints = select_hints(possible, build, max_hints);
@@ -417,8 +575,11 @@ std::vector<Hint> likely_bugs_without(const BuildSignature& build, const Catalog
   if (earliest > 0 &&
       std::none_of(hints.begin(), hints.end(), [&](const Hint& h) { return h.bug->part == earliest; })) {
     std::vector<Hint> own;
-    for (const Hint& h : possible)
-      if (h.bug->part == earliest) own.push_back(h);
+    for (const Hint& h : possible) {
+      // Not a function whose checks agree: they say it is not there.
+      const bool cleared = probes && probes->count(h.bug->function) && probes->at(h.bug->function).agrees;
+      if (h.bug->part == earliest && !cleared) own.push_back(h);
+    }
     std::vector<Hint> best_own = select_hints(std::move(own), build, 1);
     if (!best_own.empty() && best_own.front().distance <= hints.front().distance + kHintSpread) {
       if (int(hints.size()) == max_hints) hints.pop_back();
@@ -426,6 +587,30 @@ std::vector<Hint> likely_bugs_without(const BuildSignature& build, const Catalog
     }
   }
   return hints;
+}
+
+}  // namespace
+
+std::vector<Hint> likely_bugs_without(const BuildSignature& build, const Catalogue& catalogue,
+                                      const CaseGroups& groups, const std::function<bool(const KnownBug&)>& left_out,
+                                      int max_hints, const ProbeVerdicts* probes) {
+  const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
+  if (!fails) return {};
+  if (probes && !probes->empty()) {
+    const std::set<std::string> solved = solved_functions(catalogue);
+    std::vector<Hint> first = probe_hints(build, catalogue, groups, *probes, solved, max_hints, left_out);
+    std::set<std::string> named;
+    for (const Hint& h : first) named.insert(h.bug->function);
+    if (int(first.size()) >= max_hints) return first;
+    // Then the signatures' bugs, of the functions not named yet; those
+    // whose checks agree farther down.
+    std::vector<Hint> ranked = signature_hints(build, catalogue, groups,
+                                               [&](const KnownBug& b) { return left_out(b) || named.count(b.function) > 0; },
+                                               max_hints - int(first.size()), probes);
+    for (Hint& h : ranked) first.push_back(std::move(h));
+    return first;
+  }
+  return signature_hints(build, catalogue, groups, left_out, max_hints, nullptr);
 }
 
 // One case: only the bugs that fail it are candidates, and the distance is
@@ -443,7 +628,7 @@ std::vector<Hint> likely_bugs_for_case(const std::string& case_name, const CaseS
     if (it == bug.cases.end() || !it->second.failed) continue;
     if (names_solved_code(bug, catalogue, solved)) continue;
     const double d = case_distance(&figures, &it->second);
-    all.push_back(Hint{&bug, d, d, "", "", {}});
+    all.push_back(Hint{&bug, d, d, "", "", {}, false, nullptr});
   }
   return select_hints(std::move(all), build, max_hints);
 }
@@ -462,11 +647,29 @@ std::vector<std::string> hint_lines(const std::vector<Hint>& hints) {
 }
 
 std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
-                                    const CaseGroups& groups) {
+                                    const CaseGroups& groups, const ProbeVerdicts* probes) {
   const BuildSignature build = build_signature(results);
   const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
   if (!fails || catalogue.bugs.empty()) return {};
-  return hint_lines(likely_bugs(build, catalogue, groups));
+  return hint_lines(likely_bugs(build, catalogue, groups, 3, "", probes));
+}
+
+std::vector<std::string> probe_report_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
+                                            const CaseGroups& groups, const ProbeVerdicts& probes) {
+  const BuildSignature build = build_signature(results);
+  // The functions a likely cause already names from its checks.
+  std::set<std::string> named;
+  for (const Hint& h : likely_bugs(build, catalogue, groups, 3, "", &probes))
+    if (h.from_probe) named.insert(h.bug->function);
+  int latest = 0;
+  for (const auto& [name, part] : failing_parts(build, groups)) latest = std::max(latest, part);
+  const std::set<std::string> solved = solved_functions(catalogue);
+  ProbeVerdicts shown;
+  for (const auto& [function, v] : probes)
+    if (v.part >= 1 && v.part <= latest && !catalogue.solved_parts.count(v.part) && !solved.count(function) &&
+        !named.count(function))
+      shown[function] = v;
+  return probe_lines(shown);
 }
 
 std::pair<std::string, std::string> readme_section(const std::string& readme) {
@@ -476,7 +679,7 @@ std::pair<std::string, std::string> readme_section(const std::string& readme) {
 }
 
 std::string held_out_table(const Catalogue& catalogue, const CaseGroups& groups, HoldOut hold_out,
-                           HintRates* rates) {
+                           HintRates* rates, bool use_probes) {
   std::string rows;
   HintRates r;
   struct Count {
@@ -488,14 +691,15 @@ std::string held_out_table(const Catalogue& catalogue, const CaseGroups& groups,
     const auto left_out = [&](const KnownBug& other) {
       return hold_out == HoldOut::Bug ? other.name == bug.name : other.function == bug.function;
     };
-    const std::vector<Hint> hints = likely_bugs_without(bug.cases, catalogue, groups, left_out, 3);
+    const ProbeVerdicts probes = use_probes ? catalogued_probes(bug, catalogue) : ProbeVerdicts{};
+    const std::vector<Hint> hints = likely_bugs_without(bug.cases, catalogue, groups, left_out, 3, &probes);
     const bool first = !hints.empty() && hints.front().bug->function == bug.function;
     bool function_ok = false, part_ok = false;
     std::string named;
     for (const Hint& h : hints) {
       function_ok |= h.bug->function == bug.function;
       part_ok |= h.bug->part == bug.part;
-      named += (named.empty() ? "" : ", ") + h.bug->function + fmt(" (%.2f)", h.distance);
+      named += (named.empty() ? "" : ", ") + h.bug->function + (h.from_probe ? std::string(" (checks)") : fmt(" (%.2f)", h.distance));
     }
     Count& c = projects[bug.part <= 5 ? 0 : 1];
     ++c.n, c.first += first, c.top += function_ok, c.part += part_ok;
@@ -527,7 +731,7 @@ std::string held_out_table(const Catalogue& catalogue, const CaseGroups& groups,
 }
 
 std::vector<std::string> hint_lines_for_folder(const std::string& dir, const Catalogue& catalogue,
-                                               const CaseGroups& groups) {
+                                               const CaseGroups& groups, const std::string& references_dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::is_directory(fs::path(dir) / "cases", ec))
@@ -541,7 +745,8 @@ std::vector<std::string> hint_lines_for_folder(const std::string& dir, const Cat
       throw std::runtime_error(path.string() + ": not a case result");
     results.push_back(r);
   }
-  return hint_lines(results, catalogue, groups);
+  const ProbeVerdicts probes = references_dir.empty() ? ProbeVerdicts{} : probe_verdicts_for_folder(dir, references_dir);
+  return hint_lines(results, catalogue, groups, &probes);
 }
 
 }  // namespace grader

@@ -11,6 +11,7 @@
 // gets none.
 #pragma once
 #include <functional>
+#include <memory>
 #include <map>
 #include <set>
 #include <string>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "grader/src/case_result.h"
+#include "grader/src/probes.h"
 #include "grader/src/signature.h"
 
 namespace grader {
@@ -39,6 +41,11 @@ struct KnownBug {
   // {noise} the variance's, each the median over the cases the bug fails.
   std::string hint;
   BuildSignature cases;
+  // The functions whose checks (probes.h) the bug's build answered
+  // differently from the reference's, when the catalogue was made with
+  // them (has_probes): what a build with this bug would be told first.
+  bool has_probes = false;
+  std::vector<std::string> probes_disagree;
 };
 
 struct Catalogue {
@@ -48,6 +55,10 @@ struct Catalogue {
   // students did not write them, so no hint names a bug of theirs, nor any
   // function such a bug is in.
   std::set<int> solved_parts;
+  // The functions the checks cover (probes.h), when the catalogue was made
+  // with them: each bug's build answered all of them, agreeing but for its
+  // probes_disagree.
+  std::vector<std::pair<std::string, int>> probed_functions;  // function, part
 };
 
 // Throws std::runtime_error naming the file when it is missing or malformed.
@@ -89,6 +100,11 @@ struct Hint {
   std::string text;   // the words, then the function, file and README section, then the cases
   // The build's failing cases the bug fails too: the ones the hint explains.
   std::vector<std::string> cases;
+  // A hint from the function checks: the function answered them
+  // differently from the reference's. `bug` then points at `checked`, a
+  // stand-in for a function the catalogue may have no bug of.
+  bool from_probe = false;
+  std::shared_ptr<KnownBug> checked;
 };
 
 // Hints farther than this say nothing: "no known bug is close" instead.
@@ -104,18 +120,32 @@ constexpr double kOwnPartBonus = 0.1;
 // in a later part cannot have failed it.
 int earliest_failing_part(const BuildSignature& build, const CaseGroups& groups);
 
+// A function whose checks disagree is named before any signature's bug:
+// the checks call it on known inputs, the signatures only compare images.
+// One whose checks agree ranks as if this much farther.
+constexpr double kProbeAgreePenalty = 0.3;
+
 // Up to `max_hints` closest known bugs within kHintDistance (and within
 // kHintSpread of the nearest), one per function, nearest first; none when the build fails nothing. Bugs of a
 // part after earliest_failing_part are named only when no other bug is
 // within kHintDistance. No bug of a part the tree gives solved, nor of a
 // function of such a part, is named. `exclude`: a bug left out (the
-// leave-one-out evaluation).
+// leave-one-out evaluation). With `probes` (the build's function checks,
+// probes.h): the functions that answer them differently come first (those
+// whose own checks' callees also disagree after those callees), then the
+// signatures' bugs, those of functions whose checks agree ranked
+// kProbeAgreePenalty farther. A function of a part no failing case runs
+// is not named from its checks.
 std::vector<Hint> likely_bugs(const BuildSignature& build, const Catalogue& catalogue, const CaseGroups& groups,
-                              int max_hints = 3, const std::string& exclude = "");
+                              int max_hints = 3, const std::string& exclude = "", const ProbeVerdicts* probes = nullptr);
 // The same with every bug for which `left_out` is true left out.
 std::vector<Hint> likely_bugs_without(const BuildSignature& build, const Catalogue& catalogue,
                                       const CaseGroups& groups, const std::function<bool(const KnownBug&)>& left_out,
-                                      int max_hints = 3);
+                                      int max_hints = 3, const ProbeVerdicts* probes = nullptr);
+
+// What a catalogue bug's build answered to the checks, as verdicts (empty
+// when the catalogue was made without them).
+ProbeVerdicts catalogued_probes(const KnownBug& bug, const Catalogue& catalogue);
 
 // Hints from one case alone (the viewer's difference overlay, `grader
 // compare`): the case's signature against each known bug's on that case
@@ -134,7 +164,13 @@ std::vector<std::string> hint_lines(const std::vector<Hint>& hints);
 // The report's lines for these results (hint_lines of likely_bugs);
 // nothing for a build that fails nothing or an empty catalogue.
 std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
-                                    const CaseGroups& groups);
+                                    const CaseGroups& groups, const ProbeVerdicts* probes = nullptr);
+
+// The report's lines on the function checks that disagree ("Function
+// check: ..."), for the functions a hint may name (of the students' parts,
+// and of parts some failing case runs) that no likely cause names yet.
+std::vector<std::string> probe_report_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
+                                            const CaseGroups& groups, const ProbeVerdicts& probes);
 
 // A README reference of the catalogue ("stages/x/README.md#Section") as
 // the file and the section (empty when it names none).
@@ -143,7 +179,10 @@ std::pair<std::string, std::string> readme_section(const std::string& readme);
 // How the catalogue is measured on bugs it was not made from: each bug is
 // matched against the rest with itself left out (Bug), or with every bug of
 // its function left out (Function: a family of bugs the catalogue has never
-// seen, whose function no hint can then name; its part still can be).
+// seen: only its function's checks can name its function). Each bug's own
+// answers to the function checks are used when the catalogue has them (a
+// build's checks are its own, not learnt from the catalogue); `use_probes`
+// false measures the signatures alone.
 enum class HoldOut { Bug, Function };
 
 struct HintRates {
@@ -154,11 +193,13 @@ struct HintRates {
 // The table (Markdown) of every caught bug's hints with `hold_out` left out,
 // and the rates for Project 3-1, 3-2 and both.
 std::string held_out_table(const Catalogue& catalogue, const CaseGroups& groups, HoldOut hold_out,
-                           HintRates* rates);
+                           HintRates* rates, bool use_probes = true);
 
 // The hints of a graded folder (`grader run -o DIR`: DIR/cases/*/result.json),
 // as its report gives them. Throws naming the folder when it is not one.
+// With `references_dir`, the folder's function checks (dir/probes/) are
+// compared with the references' too.
 std::vector<std::string> hint_lines_for_folder(const std::string& dir, const Catalogue& catalogue,
-                                               const CaseGroups& groups);
+                                               const CaseGroups& groups, const std::string& references_dir = "");
 
 }  // namespace grader

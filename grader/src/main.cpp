@@ -35,6 +35,8 @@ struct Options {
   std::vector<std::string> grade_dirs;  // rescore
   std::string rescore_out;
   std::string hints_table = source_dir() + "/grader/tables/hints.md";
+  int max_part = 9;  // functions
+  std::string functions_out = "grader_functions";
 };
 
 CLI::App* add_run(CLI::App& app, Common& common, Options& o) {
@@ -104,6 +106,16 @@ CLI::App* add_hints(CLI::App& app, Common& common, Options& o) {
   return hints;
 }
 
+CLI::App* add_functions(CLI::App& app, Common& common, Options& o) {
+  CLI::App* f = app.add_subcommand(
+      "functions", "Call each function you write on fixed inputs and compare its answers with the reference's");
+  f->add_option("--pathtracer", common.pathtracer, "The pathtracer binary to check")->capture_default_str();
+  f->add_option("--references", common.references, "The reference folder (its probes.json)")->capture_default_str();
+  f->add_option("--part", o.max_part, "Check the functions of parts 1 to N")->check(CLI::Range(1, 9))->capture_default_str();
+  f->add_option("-o,--out", o.functions_out, "Where the build's answers go")->capture_default_str();
+  return f;
+}
+
 CLI::App* add_merge(CLI::App& app, Common& common, Options& o) {
   CLI::App* merge = app.add_subcommand("merge", "Join the outputs of several shards into one set of reports");
   merge->add_option("-o,--out", o.out, "Output folder")->capture_default_str();
@@ -137,6 +149,7 @@ int main(int argc, char** argv) {
   CLI::App* merge = add_merge(app, common, o);
   CLI::App* hints = add_hints(app, common, o);
   CLI::App* rescore = add_rescore(app, common, o);
+  CLI::App* functions = add_functions(app, common, o);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -160,6 +173,7 @@ int main(int argc, char** argv) {
     }
     if (*merge) return command_merge(common, o.out, o.shard_dirs);
     if (*hints) return command_hints(common, o.hints_table, o.graded);
+    if (*functions) return command_functions(common, o.max_part, o.functions_out);
     if (*rescore) return command_rescore(common, o.grade_dirs, o.rescore_out);
     if (*compare) return command_compare(common, o.list, o.compare_case, o.compare_files, o.compare_out);
   } catch (const std::exception& e) {

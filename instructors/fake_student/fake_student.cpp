@@ -52,6 +52,15 @@
 //   costly_shadow   valid files; the stats claim one shadow query per pixel
 //                   with 100 tests each
 //   uncounted       valid files; the stats count no primitive test at all
+//   probe_garbage, probe_link, probe_huge, probe_evil
+//                   render as `nan` (a failed case, so that the grader runs
+//                   the function checks); asked for the checks
+//                   (`--probe FILE [--part N]`), write random bytes, a
+//                   symbolic link to the references' probes.json, 20 MB
+//                   (the grader's file-size limit for the checks is 8 MB),
+//                   or valid JSON whose statuses, check names and
+//                   tolerances are the fake's own words and numbers
+// Asked for the checks in any other mode, it writes nothing and exits 0.
 #include <fcntl.h>
 #include <lodepng.h>
 #include <signal.h>
@@ -228,7 +237,34 @@ void garbage() {
 
 }  // namespace
 
+// `--probe FILE [--part N]`: the function checks, as the mode says.
+int probe(const std::string& file) {
+  const std::string mode = env("FAKE_STUDENT_MODE");
+  if (mode == "probe_garbage") {
+    std::mt19937 rng(7);
+    std::string bytes(4096, '\0');
+    for (char& c : bytes) c = char(rng());
+    std::ofstream(file, std::ios::binary) << bytes;
+  } else if (mode == "probe_link") {
+    // FAKE_STUDENT_MEAN is <refs>/<case>/mean.pfm.
+    const std::string mean = env("FAKE_STUDENT_MEAN");
+    const std::string refs = mean.substr(0, mean.rfind('/', mean.rfind('/') - 1));
+    if (symlink((refs + "/probes.json").c_str(), file.c_str()) != 0) die("symlink failed");
+  } else if (mode == "probe_huge") {
+    std::ofstream out(file, std::ios::binary);
+    const std::string block(1 << 20, '[');
+    for (int i = 0; i < 20 && out; ++i) out << block << std::flush;
+  } else if (mode == "probe_evil") {
+    std::ofstream(file) << R"({"probes": [)"
+                        << R"({"function": "generate_ray", "part": 1, "status": "crashed <script>alert(1)</script> EVIL", "checks": []},)"
+                        << R"({"function": "intersect_sphere", "part": 1, "status": "ok", "checks": [)"
+                        << R"({"name": "EVIL <b>", "abs": 1e30, "rel": 1e30, "values": [1]}]}]})";
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc >= 3 && std::string(argv[1]) == "--probe") return probe(argv[2]);
   const Args a = parse(argc, argv);
   const std::string mode = mode_of(a);
   const int w = a.width, h = a.height;
@@ -259,7 +295,7 @@ int main(int argc, char** argv) {
     write_bytes(a.png, png.data(), png.size() / 2);
     pt::write_pfm(a.pfm, image(w, h));
     write_stats(a, w, h);
-  } else if (mode == "nan") {
+  } else if (mode == "nan" || mode.rfind("probe_", 0) == 0) {
     pt::ImageBuffer img = image(w, h);
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
     img.at(3, h - 1 - 2) = pt::Color(nan, 0.5f, 0.5f);  // rows from the bottom

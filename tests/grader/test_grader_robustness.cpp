@@ -307,6 +307,46 @@ TEST_CASE("costly, costly_shadow, uncounted: part 2 cases fail on tests per quer
 
 // ---- All modes in one run ----
 
+// The function checks (`pathtracer --probe`) run the build once more when
+// it loses points; their file is the build's too, and only orders hints.
+TEST_CASE("function checks that write garbage, a link, 20 MB or words of their own: the case is judged as rendered, "
+          "and the report quotes none of it") {
+  Sandbox sb;
+  sb.add_case("nan", 20);
+  sb.make_references();
+  fs::copy_file(std::string(PT_PROJECT_SCENES) + "/../reference_images/probes.json", sb.refs() + "/probes.json");
+  for (const std::string fake : {"probe_garbage", "probe_link", "probe_huge", "probe_evil"}) {
+    INFO("fake student mode " << fake);
+    const std::string out = sb.path("out_" + fake);
+    const Run g = sb.grade(fake, out);
+    check_finished(g, 1);
+    const JsonValue results = check_reports(out, {"nan"});
+    check_case(results, out, mode("nan"), scale());
+    const std::string txt = slurp(out + "/report.txt"), html = slurp(out + "/report.html"),
+                      json = slurp(out + "/results.json");
+    for (const std::string& report : {txt, html, json}) {
+      CHECK_THAT(report, !Contains("EVIL") && !Contains("<script>alert") && !Contains("1e30") && !Contains("1e+30"));
+    }
+    if (fake == "probe_evil") {
+      // The grader's own words: the status is read as "not ok", never quoted.
+      CHECK(g.err == "");
+      CHECK_THAT(txt, Contains("Function check: generate_ray (part 1) answers differently from the reference's: "
+                               "crashed while checked"));
+      CHECK_THAT(txt, Contains("Function check: intersect_sphere (part 1) answers differently from the reference's: "
+                               "check '"));
+    } else {
+      CHECK_THAT(txt, !Contains("Function check:"));
+    }
+    if (fake == "probe_link") {
+      CHECK_THAT(g.err, Contains("the function checks did not run: wrote no function checks"));
+    }
+    if (fake == "probe_huge") {
+      CHECK_THAT(g.err, Contains("the function checks did not run:"));
+      CHECK_THAT(g.err, Contains("SIGXFSZ"));
+    }
+  }
+}
+
 TEST_CASE("every mode in one run with -j 2: each case judged on its own, every report complete") {
   Sandbox sb;
   std::vector<std::string> names;

@@ -119,6 +119,7 @@ std::string run_one(const FunctionProbe& p, std::string* status) {
 
 int run_probes(const std::string& path, int max_part) {
   std::vector<FunctionProbe> all = probes_parts_1_2_5();
+  for (FunctionProbe& p : probes_lighting()) all.push_back(p);
   for (FunctionProbe& p : probes_parts_3_6_9()) all.push_back(p);
   return run_probes(path, max_part, all);
 }

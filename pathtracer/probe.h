@@ -45,9 +45,11 @@ struct FunctionProbe {
   std::vector<Check> (*run)();
 };
 
-// The checks of parts 1, 2 and 5 (probe_parts_1_2_5.cpp) and of parts 3,
-// 6, 7, 8 and 9 (probe_parts_3_6_9.cpp).
+// The checks of parts 1, 2 and 5 (probe_parts_1_2_5.cpp), of part 3's
+// light estimators and part 4's path (probe_lighting.cpp: they need a
+// scene) and of part 3's BSDF and parts 6-9 (probe_parts_3_6_9.cpp).
 std::vector<FunctionProbe> probes_parts_1_2_5();
+std::vector<FunctionProbe> probes_lighting();
 std::vector<FunctionProbe> probes_parts_3_6_9();
 
 // Runs every function's checks of parts <= max_part, each in a child

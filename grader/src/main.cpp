@@ -102,6 +102,8 @@ CLI::App* add_hints(CLI::App& app, Common& common, Options& o) {
   hints->add_flag("--leave-one-out", o.leave_one_out,
                   "Match each bug against the others, and each function's bugs against the other functions' (the default)");
   hints->add_option("--graded", o.graded, "Print the hints of these `grader run` output folders instead (no table)");
+  hints->add_option("--references", common.references, "With --graded: the reference folder (its probes.json)")
+      ->capture_default_str();
   hints->add_option("--table", o.hints_table, "Where the table goes")->capture_default_str();
   return hints;
 }

@@ -347,6 +347,28 @@ TEST_CASE("function checks that write garbage, a link, 20 MB or words of their o
   }
 }
 
+TEST_CASE("grader functions: the reference build agrees on every function, and a build's own words are not quoted") {
+  Sandbox sb;
+  const std::string refs = std::string(PT_PROJECT_SCENES) + "/../reference_images";
+  Run g = run_program({grader_exe(), "functions", "--pathtracer", PT_PATHTRACER_EXE, "--references", refs, "-o",
+                       sb.path("ref_functions")},
+                      {});
+  INFO(g.summary());
+  check_finished(g, 0);
+  CHECK_THAT(g.out, Contains("part 6  refract"));
+  CHECK_THAT(g.out, !Contains("DIFFERS"));
+  CHECK_THAT(g.out, Contains(" functions answer the checks as the reference does (parts 1 to 9)"));
+  g = run_program({grader_exe(), "functions", "--pathtracer", FAKE_STUDENT_EXE, "--references", refs, "--part", "1",
+                   "-o", sb.path("fake_functions")},
+                  {{"FAKE_STUDENT_MODE", "probe_evil"}});
+  INFO(g.summary());
+  check_finished(g, 1);
+  CHECK_THAT(g.out, Contains("part 1  generate_ray                     DIFFERS: crashed while checked"));
+  CHECK_THAT(g.out, !Contains("EVIL") && !Contains("<script>"));
+  // Parts beyond --part are not judged: only part 1's functions are listed.
+  CHECK_THAT(g.out, !Contains("part 2 "));
+}
+
 TEST_CASE("every mode in one run with -j 2: each case judged on its own, every report complete") {
   Sandbox sb;
   std::vector<std::string> names;

@@ -70,10 +70,13 @@ for name in "${names[@]}"; do
   "$grader" functions --pathtracer "$build_root/bin/$name" -o "$build_root/$name.functions" \
     > "$build_root/$name.functions.txt" 2>&1 || true
 done
+# What the tables say they were made from, for --tables-only.
+echo "$commit $((SECONDS - t0))" > "$build_root/built.txt"
 fi
+read -r commit seconds < "$build_root/built.txt" || { echo "$tool: no earlier run in $build_root" >&2; exit 2; }
 
 status=0
-python3 - "$which" "$list" "$build_root" "$table" "$commit" "$((SECONDS - t0))" "${names[@]}" <<'PY' || status=1
+python3 - "$which" "$list" "$build_root" "$table" "$commit" "$seconds" "${names[@]}" <<'PY' || status=1
 import json, os, re, sys
 which, listfile, root, table, commit, seconds = sys.argv[1:7]
 names = sys.argv[7:]

@@ -416,7 +416,7 @@ const std::map<std::string, std::vector<std::string>>& callees() {
       {"microfacet_f", {"microfacet_D", "microfacet_F"}},
       {"microfacet_pdf", {"microfacet_D"}},
       {"microfacet_sample_f", {"microfacet_f", "microfacet_D", "microfacet_F"}},
-      {"sample_environment", {"build_environment_distribution"}},
+      {"sample_environment", {"build_environment_distribution", "environment_pdf"}},
       {"environment_pdf", {"build_environment_distribution"}},
   };
   return m;

@@ -4,7 +4,7 @@ mutants' grading results: for every mutant of mutants.txt with a line in
 hints.txt, where the bug lives, its hint, and its signature on every case it
 loses points on (cases/<case>/result.json of its grading run).
 
-    instructors/mutants/make_catalogue.py BUILD_ROOT [--commit C] [--out FILE] [--update]
+    instructors/mutants/make_catalogue.py BUILD_ROOT [--commit C] [--out FILE] [--update] [--probes FILE]
 
 BUILD_ROOT is grade_mutants.sh's --build-root (build/mutants by default),
 which holds <mutant>.grade/ for every mutant graded; grade_mutants.sh runs
@@ -14,6 +14,13 @@ hints.txt again): for adding a newly graded mutant without grading them all
 again; the catalogue's commit then names both gradings. Exits 1 naming the
 problem when a mutant has no hint, a hint names no mutant, or a mutant's
 results are missing (with --update: and it is not in the catalogue either).
+
+--probes FILE (default instructors/mutants/probes.json, made by
+instructors/check_functions.sh mutants; ignored when absent): which functions
+each mutant's build answers the function checks differently from the
+reference's. Each bug gets "probes_disagree" and the catalogue
+"probed_functions", so that the hints' leave-one-out measure can use each
+bug's own answers, as a graded build's report does.
 """
 import argparse
 import datetime
@@ -68,6 +75,7 @@ def main():
     ap.add_argument("build_root")
     ap.add_argument("--commit", default=None)
     ap.add_argument("--out", default=os.path.join(ROOT, "grader", "known_bugs.json"))
+    ap.add_argument("--probes", default=os.path.join(HERE, "probes.json"))
     ap.add_argument("--update", action="store_true",
                     help="keep the signatures of --out's catalogue for the mutants BUILD_ROOT has not graded")
     a = ap.parse_args()
@@ -114,6 +122,13 @@ def main():
         bug.update(hints[name])
         bug["cases"] = cases
         bugs.append(bug)
+    probed = None
+    if a.probes and os.path.exists(a.probes):
+        pj = json.load(open(a.probes))
+        probed = pj["probed_functions"]
+        for bug in bugs:
+            if bug["name"] in pj["bugs"]:
+                bug["probes_disagree"] = pj["bugs"][bug["name"]]
     if a.update and old_commit:
         commit = f"{old_commit}; {', '.join(graded_now) or 'none'} at {commit}"
     out = {
@@ -123,11 +138,14 @@ def main():
         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
         "bugs": bugs,
     }
+    if probed is not None:
+        out["probed_functions"] = probed
     tmp = a.out + ".tmp"
     with open(tmp, "w") as f:
         f.write("{\n")
-        for key in ("about", "commit", "date"):
-            f.write(f'  {json.dumps(key)}: {json.dumps(out[key])},\n')
+        for key in ("about", "commit", "date", "probed_functions"):
+            if key in out:
+                f.write(f'  {json.dumps(key)}: {json.dumps(out[key])},\n')
         f.write('  "bugs": [\n')
         for i, b in enumerate(bugs):
             head = {k: v for k, v in b.items() if k != "cases"}

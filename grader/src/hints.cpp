@@ -417,6 +417,14 @@ const std::map<std::string, std::vector<std::string>>& callees() {
       {"microfacet_pdf", {"microfacet_D"}},
       {"microfacet_sample_f", {"microfacet_f", "microfacet_D", "microfacet_F"}},
       {"sample_environment", {"build_environment_distribution", "environment_pdf"}},
+      // The light estimators' checks trace their scene with the given
+      // brute-force intersector, which calls part 1's tests.
+      {"zero_bounce_radiance", {"intersect_triangle", "intersect_sphere"}},
+      {"estimate_direct_lighting_hemisphere", {"diffuse_f", "intersect_triangle", "intersect_sphere"}},
+      {"estimate_direct_lighting_importance", {"diffuse_f", "intersect_triangle", "intersect_sphere"}},
+      {"at_least_one_bounce_radiance",
+       {"zero_bounce_radiance", "estimate_direct_lighting_hemisphere", "estimate_direct_lighting_importance",
+        "diffuse_f", "intersect_triangle", "intersect_sphere"}},
       {"environment_pdf", {"build_environment_distribution"}},
   };
   return m;

@@ -31,6 +31,11 @@
 #   h         the kit's own p1_teapot reference shipped in the submission and
 #             replayed at exit: it gains p1_teapot's point (a public case
 #             cannot defeat it) and nothing on the hidden case
+#   i         in the function checks (pathtracer --probe, which the grader
+#             runs once when a build loses points), at exit: what it can
+#             read of the references written into the checks' file as its
+#             own words, and a daemon that keeps writing full marks into
+#             results.json
 #
 # Graded cases: p1_teapot and p1_empty (public) and one hidden case, h1_cow.
 # --package TREE: the package of another checkout (e.g. main before this
@@ -46,7 +51,7 @@ root=$(cd "$here/../.." && pwd)
 . "$root/tests/timeout_scale/timeout_scale.sh"
 public_cases=(p1_teapot p1_empty)
 hidden_case=h1_cow
-all_steps=(prepare control base a b c d e f g h)
+all_steps=(prepare control base a b c d e f g h i)
 
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; exit 2; }
 ref_pathtracer="" ref_grader="" work="" package_tree="" report="" steps=()
@@ -348,6 +353,25 @@ import json, sys
 sys.exit(0 if len([t for t in json.load(open(sys.argv[1])).get("tests", []) if t.get("max_score") is not None]) == 3 else 1)' "$ag/results/results.json"
 }
 
+step_i() {
+  append_trick "$(base_submission i)" "$here/hostile/i_probe.inc"
+  grade i
+  common_checks i
+  no_gain i
+  local out=$ag/results/grader_out
+  # The trick ran where it meant to: in the function checks, at their exit.
+  check "i: its trick ran in the function checks" grep -q "^hostile: read" "$out/probes/stderr.txt"
+  check "i: results.json is the grader's (3 tests)" python3 -c '
+import json, sys
+sys.exit(0 if len([t for t in json.load(open(sys.argv[1])).get("tests", []) if t.get("max_score") is not None]) == 3 else 1)' "$ag/results/results.json"
+  # Its file is read as its answers, and only the grader's words are quoted.
+  check "i: the report says, in the grader's words, that generate_ray's checks did not finish" \
+    grep -q "generate_ray (part 1) answers differently from the reference's: did not finish its checks\|generate_ray answers the grader's function checks differently from the reference's (did not finish its checks)" \
+    "$out/report.txt"
+  check "i: none of the checks' file's own words reach results.json" \
+    bash -c '! grep -q -e "nothing readable" -e "hostile" -e "1e30" -e "1e+30" "$1"' _ "$work/runs/i/results.json"
+}
+
 step_g() {
   local stages port listener got=$work/runs/g-received
   stages=$(base_submission g)
@@ -453,7 +477,7 @@ if [ -n "$package_tree" ]; then
     todo=("${steps[@]}")
   else
     step_prepare
-    todo=(control base a b c d e f g h)
+    todo=(control base a b c d e f g h i)
   fi
   for s in "${todo[@]}"; do
     "step_$s" || true
@@ -466,7 +490,7 @@ fi
 
 for step in "${steps[@]}"; do
   case "$step" in
-    prepare | control | base | a | b | c | d | e | f | g | h) "step_$step" ;;
+    prepare | control | base | a | b | c | d | e | f | g | h | i) "step_$step" ;;
     *) echo "test_hostile: no step '$step'" >&2; exit 2 ;;
   esac
 done

@@ -264,9 +264,7 @@ std::vector<Check> probe_zero_bounce_radiance() {
     add(&out, "zero_bounce_radiance: " + std::to_string(hits) + " hits of rays from points inside the box", v, 1e-6,
         1e-5);
   }
-  // The two lights seen from below (their front) at several angles, and
-  // from above (their back: the gap between the main light and the
-  // ceiling), and from the side of the small light on the wall.
+  // The two lights seen from the room (their front) at several angles.
   {
     std::vector<double> v;
     const Vec3 eyes[] = {Vec3(0, 0.1f, 0), Vec3(0.9f, 1.5f, 0.9f), Vec3(-0.8f, 0.3f, -0.8f), Vec3(0.5f, 1.9f, 0.9f)};
@@ -279,20 +277,13 @@ std::vector<Check> probe_zero_bounce_radiance() {
         v.push_back(hit ? 1 : 0);
         push3(&v, hit ? zero_bounce_radiance(ctx, r, h) : Color(-1.0f));
       }
-    // From the gap above the main light: its back.
-    for (const Vec3& t : targets) {
-      const Vec3 e = t + Vec3(0.05f, 0.015f, -0.03f);
-      Ray r(e, normalize(t - e));
-      Hit h;
-      const bool hit = g.intersect(r, &h);
-      v.push_back(hit ? 1 : 0);
-      push3(&v, hit ? zero_bounce_radiance(ctx, r, h) : Color(-1.0f));
-    }
-    // The small light from the room (front) and from behind (back, in the
-    // gap between it and the wall).
+    // The small light from the room (its front). Rays from the narrow gaps
+    // behind the lights graze them: where they land is float round-off (a
+    // correct double-precision intersector lands elsewhere), so the lights'
+    // backs are checked with the made-up hits below instead.
     const Vec3 bt[] = {Vec3(-0.98f, 1.0f, -0.3f), Vec3(-0.98f, 1.1f, -0.2f)};
     for (const Vec3& t : bt) {
-      for (const Vec3& e : {Vec3(0.5f, 0.4f, 0.6f), Vec3(-0.2f, 1.0f, -0.3f), Vec3(-0.995f, 1.05f, -0.35f)}) {
+      for (const Vec3& e : {Vec3(0.5f, 0.4f, 0.6f), Vec3(-0.2f, 1.0f, -0.3f)}) {
         Ray r(e, normalize(t - e));
         Hit h;
         const bool hit = g.intersect(r, &h);
@@ -300,7 +291,7 @@ std::vector<Check> probe_zero_bounce_radiance() {
         push3(&v, hit ? zero_bounce_radiance(ctx, r, h) : Color(-1.0f));
       }
     }
-    add(&out, "zero_bounce_radiance: the two lights seen from the front at several angles and from behind", v, 1e-6,
+    add(&out, "zero_bounce_radiance: the two lights seen from the front at several angles", v, 1e-6,
         1e-5);
   }
   // Hit records made here: every material, the normal facing the ray, away

@@ -254,9 +254,7 @@ std::vector<std::string> run_hints(const Common& common, const std::vector<CaseR
         std::fprintf(stderr, "grader: the function checks did not run: %s\n", failure.c_str());
       probes = probe_verdicts_for_folder(out, common.references);
     }
-    std::vector<std::string> lines = hint_lines(results, catalogue, groups, &probes);
-    for (const std::string& l : probe_report_lines(results, catalogue, groups, probes)) lines.push_back(l);
-    return lines;
+    return hint_lines(results, catalogue, groups, &probes);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grader: no hints: %s\n", e.what());
     return {};

@@ -659,25 +659,24 @@ std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, cons
   const BuildSignature build = build_signature(results);
   const bool fails = std::any_of(build.begin(), build.end(), [](const auto& c) { return c.second.failed; });
   if (!fails || catalogue.bugs.empty()) return {};
-  return hint_lines(likely_bugs(build, catalogue, groups, 3, "", probes));
-}
-
-std::vector<std::string> probe_report_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
-                                            const CaseGroups& groups, const ProbeVerdicts& probes) {
-  const BuildSignature build = build_signature(results);
-  // The functions a likely cause already names from its checks.
+  const std::vector<Hint> hints = likely_bugs(build, catalogue, groups, 3, "", probes);
+  std::vector<std::string> lines = hint_lines(hints);
+  if (!probes) return lines;
+  // Then a line for each other function whose checks disagree and that a
+  // hint may name: of the students' parts and of parts a failing case runs.
   std::set<std::string> named;
-  for (const Hint& h : likely_bugs(build, catalogue, groups, 3, "", &probes))
+  for (const Hint& h : hints)
     if (h.from_probe) named.insert(h.bug->function);
   int latest = 0;
   for (const auto& [name, part] : failing_parts(build, groups)) latest = std::max(latest, part);
   const std::set<std::string> solved = solved_functions(catalogue);
   ProbeVerdicts shown;
-  for (const auto& [function, v] : probes)
+  for (const auto& [function, v] : *probes)
     if (v.part >= 1 && v.part <= latest && !catalogue.solved_parts.count(v.part) && !solved.count(function) &&
         !named.count(function))
       shown[function] = v;
-  return probe_lines(shown);
+  for (const std::string& l : probe_lines(shown)) lines.push_back(l);
+  return lines;
 }
 
 std::pair<std::string, std::string> readme_section(const std::string& readme) {

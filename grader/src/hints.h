@@ -162,15 +162,12 @@ extern const char* const kNoHintClose;
 std::vector<std::string> hint_lines(const std::vector<Hint>& hints);
 
 // The report's lines for these results (hint_lines of likely_bugs);
-// nothing for a build that fails nothing or an empty catalogue.
+// nothing for a build that fails nothing or an empty catalogue. With the
+// build's function checks, then a line "Function check: ..." for each
+// function whose checks disagree that a hint may name (of the students'
+// parts, and of parts some failing case runs) and no likely cause names.
 std::vector<std::string> hint_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
                                     const CaseGroups& groups, const ProbeVerdicts* probes = nullptr);
-
-// The report's lines on the function checks that disagree ("Function
-// check: ..."), for the functions a hint may name (of the students' parts,
-// and of parts some failing case runs) that no likely cause names yet.
-std::vector<std::string> probe_report_lines(const std::vector<CaseResult>& results, const Catalogue& catalogue,
-                                            const CaseGroups& groups, const ProbeVerdicts& probes);
 
 // A README reference of the catalogue ("stages/x/README.md#Section") as
 // the file and the section (empty when it names none).
